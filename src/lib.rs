@@ -21,6 +21,8 @@
 
 pub mod analysis;
 pub mod error;
+pub mod plot;
+pub mod render;
 pub mod schemes;
 
 pub use error::ParamError;

@@ -7,3 +7,4 @@
 
 pub mod energy;
 pub mod frequency;
+pub mod spectrogram;

@@ -1,0 +1,39 @@
+//! Command-line interface of the `noether` binary (argument parsing and dispatch only; the
+//! work is done by the library).
+
+mod lab;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// Noether: physical-model sound synthesis with energy-conserving schemes.
+#[derive(Debug, Parser)]
+#[command(name = "noether", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do (default: run every lecture illustration of the integrator lab into `out/lab`).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// Top-level subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The integrator lab: the lecture's experiments on one oscillator and on N-DOF systems.
+    Lab(lab::LabArgs),
+}
+
+/// Parses the process arguments and runs the command.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Some(Command::Lab(args)) => lab::run(args),
+        None => lab::run_all_figures(std::path::Path::new("out/lab")),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

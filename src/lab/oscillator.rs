@@ -1,0 +1,198 @@
+//! One-oscillator experiments: any scheme of SEED.md 1.1-1.4 from given initial conditions.
+
+use super::{max_abs_difference, Duration, Summary, Trace};
+use crate::analysis::{analytic, energy::max_relative_drift, frequency};
+use crate::error::{check_finite, check_positive, ParamError};
+use crate::schemes::{build_oscillator, OscillatorSpec, OscillatorStepper, StepperStats};
+
+/// Step refinement of the reference run used when no closed-form solution exists.
+pub const REFERENCE_REFINEMENT: u64 = 16;
+
+/// A configured one-oscillator experiment.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OscillatorExperiment {
+    /// The scheme and its parameters.
+    pub spec: OscillatorSpec,
+    /// Time step h.
+    pub h: f64,
+    /// Initial displacement u(0).
+    pub u0: f64,
+    /// Initial velocity u̇(0).
+    pub v0: f64,
+    /// How long to run.
+    pub duration: Duration,
+}
+
+/// Result of [`OscillatorExperiment::run`].
+#[derive(Debug, Clone)]
+pub struct OscillatorRun {
+    /// The recorded series.
+    pub trace: Trace,
+    /// The summary figures.
+    pub summary: Summary,
+}
+
+impl OscillatorExperiment {
+    /// Natural angular frequency of the linear part (used for `Duration::Periods`).
+    pub fn linear_omega0(&self) -> Option<f64> {
+        match self.spec {
+            OscillatorSpec::Theta { omega0, .. }
+            | OscillatorSpec::Exact { omega0, .. }
+            | OscillatorSpec::DuffingVerlet { omega0, .. }
+            | OscillatorSpec::DuffingConservative { omega0, .. } => Some(omega0),
+            OscillatorSpec::Impact { mass, stiffness, .. } => {
+                (stiffness > 0.0 && mass > 0.0).then(|| (stiffness / mass).sqrt())
+            }
+        }
+    }
+
+    /// Name of the physical system (`linear`, `duffing`, `impact`).
+    pub fn system_name(&self) -> &'static str {
+        match self.spec {
+            OscillatorSpec::Theta { .. } | OscillatorSpec::Exact { .. } => "linear",
+            OscillatorSpec::DuffingVerlet { .. } | OscillatorSpec::DuffingConservative { .. } => "duffing",
+            OscillatorSpec::Impact { .. } => "impact",
+        }
+    }
+
+    /// Number of steps this experiment takes (validates the duration).
+    pub fn steps(&self) -> Result<u64, ParamError> {
+        check_positive("h", self.h)?;
+        match (self.duration, self.linear_omega0()) {
+            (Duration::Periods(p), None) => Err(ParamError::new(
+                "periods",
+                p,
+                "not available without a linear spring (stiffness = 0): give --seconds",
+            )),
+            (d, w) => d.steps(self.h, w.unwrap_or(1.0)),
+        }
+    }
+
+    /// Runs the experiment and measures it.
+    pub fn run(&self) -> Result<OscillatorRun, ParamError> {
+        check_finite("u0", self.u0)?;
+        check_finite("v0", self.v0)?;
+        let steps = self.steps()?;
+        let mut stepper = build_oscillator(&self.spec, self.h)?;
+        let (mut trace, stats) = record(stepper.as_mut(), self.u0, self.v0, steps, 1);
+        let (reference, label) = self.reference(&trace.t, steps)?;
+        trace.reference_label = label;
+        let max_err = reference.as_ref().map(|r| max_abs_difference(&trace.u, r));
+        trace.reference = reference;
+        let summary = self.summarise(&trace, steps, stats, max_err);
+        Ok(OscillatorRun { trace, summary })
+    }
+
+    /// Closed-form solution at `t` where one exists, else the same scheme at `h/16`.
+    fn reference(&self, t: &[f64], steps: u64) -> Result<(Option<Vec<f64>>, String), ParamError> {
+        let (u0, v0) = (self.u0, self.v0);
+        match self.spec {
+            OscillatorSpec::Theta { omega0, .. } => Ok((
+                Some(t.iter().map(|&t| analytic::linear_damped(omega0, 0.0, u0, v0, t).0).collect()),
+                "exact solution".into(),
+            )),
+            OscillatorSpec::Exact { omega0, xi } => Ok((
+                Some(t.iter().map(|&t| analytic::linear_damped(omega0, xi, u0, v0, t).0).collect()),
+                "exact solution".into(),
+            )),
+            OscillatorSpec::DuffingVerlet { omega0, gamma }
+            | OscillatorSpec::DuffingConservative { omega0, gamma, .. }
+                if v0 == 0.0 =>
+            {
+                Ok((
+                    Some(t.iter().map(|&t| analytic::duffing_free(omega0, gamma, u0, t)).collect()),
+                    "exact solution u0 cn(Ωt, m)".into(),
+                ))
+            }
+            _ => {
+                let fine_h = self.h / REFERENCE_REFINEMENT as f64;
+                let mut fine = build_oscillator(&self.spec, fine_h)?;
+                let (trace, _) = record(fine.as_mut(), u0, v0, steps * REFERENCE_REFINEMENT, REFERENCE_REFINEMENT);
+                Ok((Some(trace.u), format!("same scheme at h/{REFERENCE_REFINEMENT}")))
+            }
+        }
+    }
+
+    /// Reference frequency for the cents figure, and what it is.
+    fn reference_frequency(&self) -> (f64, String) {
+        match self.spec {
+            OscillatorSpec::Theta { omega0, .. } => (omega0, "omega0".into()),
+            OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => {
+                (omega0 * (1.0 - xi * xi).sqrt(), "damped natural frequency omega0*sqrt(1-xi^2)".into())
+            }
+            OscillatorSpec::Exact { omega0, .. } => (omega0, "omega0".into()),
+            OscillatorSpec::DuffingVerlet { omega0, gamma }
+            | OscillatorSpec::DuffingConservative { omega0, gamma, .. } => {
+                let amplitude = analytic::duffing_amplitude(omega0, gamma, self.u0, self.v0);
+                (
+                    std::f64::consts::TAU / analytic::duffing_period(omega0, gamma, amplitude),
+                    "exact nonlinear frequency 2*pi/T, T = 4K(m)/Omega".into(),
+                )
+            }
+            OscillatorSpec::Impact { .. } => (
+                self.linear_omega0().unwrap_or(f64::NAN),
+                "omega0 of the linear spring (contact raises the frequency)".into(),
+            ),
+        }
+    }
+
+    fn summarise(&self, trace: &Trace, steps: u64, stats: StepperStats, max_err: Option<f64>) -> Summary {
+        let measured = frequency::measure(&trace.u, self.h);
+        let (omega_ref, omega_ref_kind) = self.reference_frequency();
+        let closed = match self.spec {
+            OscillatorSpec::Theta { omega0, theta } => analytic::theta_omega_d(omega0, theta, self.h),
+            _ => None,
+        };
+        let finite = trace.u.iter().chain(&trace.v).chain(&trace.energy).all(|x| x.is_finite());
+        Summary {
+            system: self.system_name().into(),
+            scheme: self.spec.scheme_name().into(),
+            h: self.h,
+            steps,
+            omega_d: measured.map(|m| m.omega),
+            period: measured.map(|m| m.period),
+            omega_ref,
+            omega_ref_kind,
+            cents: measured.map(|m| frequency::cents(m.omega, omega_ref)),
+            omega_d_closed_form: closed,
+            max_rel_energy_error: max_relative_drift(&trace.balance()),
+            max_abs_error_vs_reference: max_err,
+            solver_iterations: stats.solver_iterations,
+            max_iterations_per_step: stats.max_iterations_per_step,
+            solver_failures: stats.solver_failures,
+            impacts: stats.impacts,
+            finite,
+        }
+    }
+}
+
+/// Runs `steps` steps from `(u0, v0)`, keeping every `stride`-th state (and the first).
+fn record(stepper: &mut dyn OscillatorStepper, u0: f64, v0: f64, steps: u64, stride: u64) -> (Trace, StepperStats) {
+    let kept = (steps / stride + 1) as usize;
+    let mut tr = Trace {
+        t: Vec::with_capacity(kept),
+        u: Vec::with_capacity(kept),
+        v: Vec::with_capacity(kept),
+        energy: Vec::with_capacity(kept),
+        dissipated: Vec::with_capacity(kept),
+        ..Trace::default()
+    };
+    stepper.reset(u0, v0);
+    let h = stepper.step_size();
+    let mut push = |s: &dyn OscillatorStepper, n: u64| {
+        tr.t.push(n as f64 * h);
+        tr.u.push(s.displacement());
+        tr.v.push(s.velocity());
+        tr.energy.push(s.discrete_energy());
+        tr.dissipated.push(s.dissipated_energy());
+    };
+    push(stepper, 0);
+    for n in 1..=steps {
+        stepper.step();
+        if n % stride == 0 {
+            push(stepper, n);
+        }
+    }
+    let stats = stepper.stats();
+    (tr, stats)
+}

@@ -1,0 +1,96 @@
+//! Offline sample-rate conversion of whole signals with `rubato`'s synchronous FFT resampler
+//! (band-limited; exact rational ratio from the two integer rates).
+//!
+//! Runs on the offline render thread; allocates.
+
+use rubato::{FftFixedInOut, Resampler};
+
+/// Input chunk size handed to the resampler (frames).
+const CHUNK: usize = 4096;
+
+/// Resamples every channel of `input` (equal lengths) from `rate_in` to `rate_out` Hz.
+///
+/// The output has `round(len · rate_out / rate_in)` frames per channel and is aligned in time
+/// with the input to within half an output sample (the resampler's reported delay is
+/// removed). Equal rates return a copy.
+pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<Vec<f64>>, String> {
+    let channels = input.len();
+    if channels == 0 || rate_in == rate_out {
+        return Ok(input.to_vec());
+    }
+    let len = input[0].len();
+    let expected = ((len as f64) * rate_out as f64 / rate_in as f64).round() as usize;
+    let mut r = FftFixedInOut::<f64>::new(rate_in as usize, rate_out as usize, CHUNK, channels)
+        .map_err(|e| format!("resampler {rate_in} Hz -> {rate_out} Hz: {e}"))?;
+    let delay = r.output_delay();
+    let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(expected + delay + 2 * CHUNK); channels];
+    let mut pos = 0;
+    let mut buf_out = r.output_buffer_allocate(true);
+    while out[0].len() < expected + delay {
+        let need = r.input_frames_next();
+        let chunk: Vec<Vec<f64>> = input
+            .iter()
+            .map(|ch| {
+                let mut c = vec![0.0; need];
+                if pos < len {
+                    let n = need.min(len - pos);
+                    c[..n].copy_from_slice(&ch[pos..pos + n]);
+                }
+                c
+            })
+            .collect();
+        pos += need;
+        let (_, produced) = r
+            .process_into_buffer(&chunk, &mut buf_out, None)
+            .map_err(|e| format!("resampling: {e}"))?;
+        for (o, b) in out.iter_mut().zip(&buf_out) {
+            o.extend_from_slice(&b[..produced]);
+        }
+    }
+    Ok(out
+        .into_iter()
+        .map(|mut o| {
+            o.drain(..delay);
+            o.truncate(expected);
+            o
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 1 kHz sine keeps its frequency, amplitude and timing through the rate changes the
+    /// renders use. rubato's FFT filter is band-limited; the measured error away from the edges
+    /// is 2e-11 (down) to 6e-5 (10 kHz up), so 1e-4 is the bound. Its group delay is removed to
+    /// the sample: for some up-sampling ratios half an output sample (≤ 11 µs at 44.1 kHz)
+    /// remains, so each case is compared at the better of a 0 and a ½-sample shift.
+    #[test]
+    fn sine_survives_rate_changes() {
+        for (fin, fout) in [
+            (10_000u32, 44_100u32),
+            (48_000, 44_100),
+            (400_000, 48_000),
+            (40_000, 44_100),
+        ] {
+            let f = 1000.0;
+            let x: Vec<f64> = (0..fin)
+                .map(|n| (std::f64::consts::TAU * f * n as f64 / fin as f64).sin())
+                .collect();
+            let y = resample(&[x], fin, fout).unwrap();
+            assert_eq!(y[0].len(), fout as usize);
+            let err = |shift: f64| {
+                (2000..fout as usize - 2000)
+                    .map(|n| {
+                        (y[0][n]
+                            - (std::f64::consts::TAU * f * (n as f64 - shift) / fout as f64).sin())
+                        .abs()
+                    })
+                    .fold(0.0, f64::max)
+            };
+            let e = err(0.0).min(err(0.5));
+            assert!(e < 1e-4, "{fin} -> {fout}: max error {e}");
+        }
+    }
+}
