@@ -23,6 +23,7 @@ pub mod analysis;
 pub mod error;
 pub mod plot;
 pub mod render;
+pub mod scene;
 pub mod schemes;
 
 pub use error::ParamError;

@@ -241,7 +241,11 @@ fn draw_panel(
                 envelope(&s.x, &s.y)
             } else {
                 let stride = s.x.len().div_ceil(MAX_SCATTER).max(1);
-                s.x.iter().copied().zip(s.y.iter().copied()).step_by(stride).collect()
+                s.x.iter()
+                    .copied()
+                    .zip(s.y.iter().copied())
+                    .step_by(stride)
+                    .collect()
             };
             pts.into_iter()
                 .filter_map(|(x, y)| {

@@ -1,0 +1,136 @@
+//! Scene files: a TOML description of one offline render (model, excitation, pickups, rates).
+//!
+//! A scene is parsed with serde (`deny_unknown_fields` everywhere, so a misspelt field is an
+//! error naming it), overridden field by field with `--set dotted.path=value`, then validated:
+//! every numeric field is checked against its allowed range and an error names the dotted
+//! field, the value and the range ([`crate::ParamError`]).
+//!
+//! Parsing and validation run on the thread that loads the scene (CLI main thread, or the
+//! plugin's worker), never on the audio thread.
+
+pub mod overrides;
+pub mod plate;
+
+pub use plate::PlateScene;
+
+use crate::error::{check_closed, ParamError};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// Output of a render: WAV rate and length.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// WAV sample rate in Hz (8 000 to 384 000); the simulation is resampled to it.
+    pub sample_rate: u32,
+    /// Rendered duration in seconds (0 < seconds ≤ 600).
+    pub seconds: f64,
+    /// Gain applied to the pickup signals before writing, in dB (-120 to 120). The WAV is
+    /// 32-bit float, so nothing is clipped; the report gives the peak.
+    #[serde(default)]
+    pub gain_db: f64,
+}
+
+impl OutputSpec {
+    /// Checks the ranges of every field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if !(8_000..=384_000).contains(&self.sample_rate) {
+            return Err(ParamError::new(
+                "output.sample_rate",
+                self.sample_rate,
+                "8000 to 384000 Hz",
+            ));
+        }
+        check_closed("output.seconds", self.seconds, 1e-6, 600.0)?;
+        check_closed("output.gain_db", self.gain_db, -120.0, 120.0)?;
+        Ok(())
+    }
+}
+
+/// A complete scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name (used for output file names); defaults to the file stem.
+    #[serde(default)]
+    pub name: String,
+    /// Free text describing the scene.
+    #[serde(default)]
+    pub description: String,
+    /// WAV rate and duration.
+    pub output: OutputSpec,
+    /// The plate model, when the scene is a plate or gong.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plate: Option<PlateScene>,
+}
+
+/// Errors while loading a scene.
+#[derive(Debug)]
+pub enum SceneError {
+    /// The file could not be read.
+    Io(String),
+    /// The TOML is malformed, has an unknown field or a value of the wrong type.
+    Parse(String),
+    /// A value is out of range.
+    Invalid(ParamError),
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SceneError::Io(s) | SceneError::Parse(s) => f.write_str(s),
+            SceneError::Invalid(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl From<ParamError> for SceneError {
+    fn from(e: ParamError) -> Self {
+        SceneError::Invalid(e)
+    }
+}
+
+impl Scene {
+    /// Parses TOML text, applies `overrides` (`dotted.path=value`), and validates.
+    pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Self, SceneError> {
+        let mut value: toml::Table =
+            toml::from_str(text).map_err(|e| SceneError::Parse(format!("{origin}: {e}")))?;
+        for o in overrides {
+            overrides::apply(&mut value, o).map_err(SceneError::Parse)?;
+        }
+        let scene: Scene = value.try_into().map_err(|e: toml::de::Error| {
+            SceneError::Parse(format!("{origin}: {}", e.message()))
+        })?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Reads and parses a scene file; the name defaults to the file stem.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::Io(format!("reading scene {}: {e}", path.display())))?;
+        let mut scene = Self::from_toml(&text, &path.display().to_string(), overrides)?;
+        if scene.name.is_empty() {
+            scene.name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+        }
+        Ok(scene)
+    }
+
+    /// Checks every field's range; errors name the dotted field.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        self.output.validate()?;
+        match &self.plate {
+            Some(p) => p.validate(),
+            None => Err(ParamError::new(
+                "plate",
+                "missing",
+                "a scene needs a model table: [plate]",
+            )),
+        }
+    }
+}

@@ -1,0 +1,358 @@
+//! The `[plate]` table of a scene: geometry, material, modes, scheme, losses, excitation,
+//! pickups.
+
+use crate::error::{check_closed, check_non_negative, ParamError};
+use serde::{Deserialize, Serialize};
+
+/// Plate geometry and boundary conditions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlateShape {
+    /// Circular plate, free edge (gong); in-plane Airy modes of clamped type.
+    CircularFree,
+    /// Circular plate, clamped edge (cymbal-like plate held at its rim).
+    CircularClamped,
+    /// Rectangular plate, simply supported, in-plane edges free of stress.
+    RectSs,
+}
+
+impl PlateShape {
+    /// Whether the shape is circular (positions given as `r`, `angle`).
+    pub fn is_circular(self) -> bool {
+        !matches!(self, PlateShape::RectSs)
+    }
+}
+
+/// Time scheme of the plate.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlateScheme {
+    /// The lecture's energy-conserving linearly implicit scheme, θ = 1 linear part
+    /// (stable iff `fs > π f_max`).
+    Conservative,
+    /// The energy-conserving scheme with the exact linear part (no stability limit from it).
+    ConservativeExact,
+    /// Störmer-Verlet with the exact linear part: explicit, cheap, NOT energy conserving.
+    StormerVerlet,
+}
+
+/// Isotropic material.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E in Pa (1e6 to 1e13).
+    pub youngs_modulus: f64,
+    /// Density ρ in kg/m³ (10 to 1e5).
+    pub density: f64,
+    /// Poisson's ratio ν (0 to 0.5).
+    pub poisson: f64,
+}
+
+impl Default for Material {
+    /// The lecture's steel: E = 200 GPa, ρ = 7860 kg/m³, ν = 0.3.
+    fn default() -> Self {
+        Self {
+            youngs_modulus: 2e11,
+            density: 7860.0,
+            poisson: 0.3,
+        }
+    }
+}
+
+/// Modal damping law.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "law", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Damping {
+    /// No losses.
+    #[default]
+    None,
+    /// `c_p = a ω_p^b + c0` in 1/s (the lecture's gong: a = 0.005, b = 0.6), acting as
+    /// `c_p q̇_p` in the modal equations.
+    Power {
+        /// Coefficient a (≥ 0).
+        a: f64,
+        /// Exponent b (0 to 2).
+        b: f64,
+        /// Constant part c0 in 1/s (≥ 0).
+        #[serde(default)]
+        c0: f64,
+    },
+    /// Constant quality factor: `c_p = ω_p / Q`.
+    Q {
+        /// Quality factor Q (1 to 1e7).
+        q: f64,
+    },
+}
+
+/// A point on the plate: `r` (fraction of the radius, 0 to 1) and `angle` (rad) on circular
+/// plates; `x`, `y` (fractions of `lx`, `ly`, 0 to 1) on rectangles.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Position {
+    /// Radial position as a fraction of the radius (circular plates).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub r: Option<f64>,
+    /// Angle in radians (circular plates; default 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle: Option<f64>,
+    /// Position along `lx` as a fraction (rectangles).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    /// Position along `ly` as a fraction (rectangles).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub y: Option<f64>,
+}
+
+impl Position {
+    /// Checks the coordinates fit `shape`; `field` is the dotted name used in errors.
+    pub fn validate(&self, shape: PlateShape, field: &str) -> Result<(), ParamError> {
+        if shape.is_circular() {
+            if self.x.is_some() || self.y.is_some() {
+                return Err(ParamError::new(
+                    format!("{field}.x"),
+                    "given",
+                    "r and angle on circular plates",
+                ));
+            }
+            let r = self.r.ok_or_else(|| {
+                ParamError::new(format!("{field}.r"), "missing", "a number in [0, 1]")
+            })?;
+            check_closed(&format!("{field}.r"), r, 0.0, 1.0)?;
+            check_closed(
+                &format!("{field}.angle"),
+                self.angle.unwrap_or(0.0),
+                -1e3,
+                1e3,
+            )?;
+        } else {
+            if self.r.is_some() || self.angle.is_some() {
+                return Err(ParamError::new(
+                    format!("{field}.r"),
+                    "given",
+                    "x and y on rectangular plates",
+                ));
+            }
+            for (name, v) in [("x", self.x), ("y", self.y)] {
+                let v = v.ok_or_else(|| {
+                    ParamError::new(format!("{field}.{name}"), "missing", "a number in [0, 1]")
+                })?;
+                check_closed(&format!("{field}.{name}"), v, 0.0, 1.0)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How the plate is set in motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Excitation {
+    /// Raised-cosine force pulse `F(t) = (F_max/2)(1 - cos(2πt/T))` for `0 ≤ t ≤ T`, applied at
+    /// a point.
+    Strike {
+        /// Where.
+        at: Position,
+        /// Pulse length T in seconds (1e-5 to 0.1).
+        duration: f64,
+        /// Peak force F_max in newtons (0 to 1e6).
+        peak_force: f64,
+    },
+    /// A Dirac impulse in time and space: velocity kick of `impulse / (ρh)` times the mode
+    /// shapes at the point, at t = 0.
+    Impulse {
+        /// Where.
+        at: Position,
+        /// Impulse in N·s (0 to 1e3).
+        impulse: f64,
+    },
+}
+
+/// What a pickup measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum Quantity {
+    /// Transverse displacement w (m).
+    Displacement,
+    /// Transverse velocity ẇ (m/s).
+    #[default]
+    Velocity,
+}
+
+/// One output channel.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Pickup {
+    /// Where.
+    pub at: Position,
+    /// What it measures.
+    #[serde(default)]
+    pub quantity: Quantity,
+}
+
+/// The `[plate]` table.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlateScene {
+    /// Geometry and boundary conditions.
+    pub shape: PlateShape,
+    /// Radius a in m (circular plates; 0.01 to 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Side length along x in m (rectangles; 0.01 to 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lx: Option<f64>,
+    /// Side length along y in m (rectangles; 0.01 to 10).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ly: Option<f64>,
+    /// Thickness h in m (1e-5 to 0.1).
+    pub thickness: f64,
+    /// Material (default: the lecture's steel).
+    #[serde(default)]
+    pub material: Material,
+    /// Number of transverse modes N_Φ (1 to 4000).
+    pub n_phi: usize,
+    /// Number of in-plane modes N_Ψ (0 to 4000; 0 makes the plate linear).
+    pub n_psi: usize,
+    /// Simulation rate in Hz (1 000 to 4 000 000).
+    pub sim_rate: f64,
+    /// Time scheme.
+    pub scheme: PlateScheme,
+    /// Losses.
+    #[serde(default)]
+    pub damping: Damping,
+    /// Excitation.
+    pub excitation: Excitation,
+    /// Output channels (default: a stereo velocity pair at r = 0.896 a, angles 0.519 and
+    /// -0.8 rad on circles; (0.31, 0.37) and (0.63, 0.71) on rectangles).
+    #[serde(default)]
+    pub pickups: Vec<Pickup>,
+}
+
+impl PlateScene {
+    /// Checks every field's range; errors name the dotted field (`plate.thickness`, ...).
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if self.shape.is_circular() {
+            let a = self.radius.ok_or_else(|| {
+                ParamError::new(
+                    "plate.radius",
+                    "missing",
+                    "0.01 to 10 m for circular plates",
+                )
+            })?;
+            check_closed("plate.radius", a, 0.01, 10.0)?;
+        } else {
+            for (name, v) in [("plate.lx", self.lx), ("plate.ly", self.ly)] {
+                let v = v.ok_or_else(|| {
+                    ParamError::new(name, "missing", "0.01 to 10 m for rectangular plates")
+                })?;
+                check_closed(name, v, 0.01, 10.0)?;
+            }
+        }
+        check_closed("plate.thickness", self.thickness, 1e-5, 0.1)?;
+        check_closed(
+            "plate.material.youngs_modulus",
+            self.material.youngs_modulus,
+            1e6,
+            1e13,
+        )?;
+        check_closed("plate.material.density", self.material.density, 10.0, 1e5)?;
+        check_closed("plate.material.poisson", self.material.poisson, 0.0, 0.5)?;
+        if !(1..=4000).contains(&self.n_phi) {
+            return Err(ParamError::new("plate.n_phi", self.n_phi, "1 to 4000"));
+        }
+        if self.n_psi > 4000 {
+            return Err(ParamError::new("plate.n_psi", self.n_psi, "0 to 4000"));
+        }
+        check_closed("plate.sim_rate", self.sim_rate, 1e3, 4e6)?;
+        match self.damping {
+            Damping::None => {}
+            Damping::Power { a, b, c0 } => {
+                check_non_negative("plate.damping.a", a)?;
+                check_closed("plate.damping.b", b, 0.0, 2.0)?;
+                check_non_negative("plate.damping.c0", c0)?;
+            }
+            Damping::Q { q } => {
+                check_closed("plate.damping.q", q, 1.0, 1e7)?;
+            }
+        }
+        match self.excitation {
+            Excitation::Strike {
+                at,
+                duration,
+                peak_force,
+            } => {
+                at.validate(self.shape, "plate.excitation.at")?;
+                check_closed("plate.excitation.duration", duration, 1e-5, 0.1)?;
+                check_closed("plate.excitation.peak_force", peak_force, 0.0, 1e6)?;
+            }
+            Excitation::Impulse { at, impulse } => {
+                at.validate(self.shape, "plate.excitation.at")?;
+                check_closed("plate.excitation.impulse", impulse, 0.0, 1e3)?;
+            }
+        }
+        if self.pickups.len() > 64 {
+            return Err(ParamError::new(
+                "plate.pickups",
+                self.pickups.len(),
+                "0 to 64 pickups",
+            ));
+        }
+        for (i, p) in self.pickups.iter().enumerate() {
+            p.at.validate(self.shape, &format!("plate.pickups[{i}].at"))?;
+        }
+        Ok(())
+    }
+
+    /// The pickups to use: the scene's, or the default stereo pair.
+    pub fn effective_pickups(&self) -> Vec<Pickup> {
+        if !self.pickups.is_empty() {
+            return self.pickups.clone();
+        }
+        let at = |a: (f64, f64)| {
+            if self.shape.is_circular() {
+                Position {
+                    r: Some(a.0),
+                    angle: Some(a.1),
+                    ..Position::default()
+                }
+            } else {
+                Position {
+                    x: Some(a.0),
+                    y: Some(a.1),
+                    ..Position::default()
+                }
+            }
+        };
+        let pair = if self.shape.is_circular() {
+            [(0.896, 0.519), (0.896, -0.8)]
+        } else {
+            [(0.31, 0.37), (0.63, 0.71)]
+        };
+        pair.iter()
+            .map(|&p| Pickup {
+                at: at(p),
+                quantity: Quantity::Velocity,
+            })
+            .collect()
+    }
+
+    /// Flexural rigidity `D = E h³ / (12 (1 - ν²))` in N·m.
+    pub fn rigidity(&self) -> f64 {
+        let m = &self.material;
+        m.youngs_modulus * self.thickness.powi(3) / (12.0 * (1.0 - m.poisson * m.poisson))
+    }
+
+    /// Surface density `ρ h` in kg/m².
+    pub fn surface_density(&self) -> f64 {
+        self.material.density * self.thickness
+    }
+
+    /// Characteristic length: the radius, or `lx` for rectangles (m).
+    pub fn length_scale(&self) -> f64 {
+        if self.shape.is_circular() {
+            self.radius.unwrap_or(1.0)
+        } else {
+            self.lx.unwrap_or(1.0)
+        }
+    }
+}
