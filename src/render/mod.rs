@@ -1,4 +1,7 @@
-//! Offline rendering support: WAV output and sample-rate conversion.
+//! Offline rendering: the render loop over any [`source::RenderSource`], WAV output and
+//! sample-rate conversion.
 
+pub mod offline;
 pub mod resample;
+pub mod source;
 pub mod wav;

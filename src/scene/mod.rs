@@ -100,9 +100,17 @@ impl Scene {
         for o in overrides {
             overrides::apply(&mut value, o).map_err(SceneError::Parse)?;
         }
-        let scene: Scene = value.try_into().map_err(|e: toml::de::Error| {
-            SceneError::Parse(format!("{origin}: {}", e.message()))
-        })?;
+        let scene: Scene =
+            serde_path_to_error::deserialize(toml::Value::Table(value)).map_err(|e| {
+                let path = e.path().to_string();
+                let inner = e.into_inner();
+                let msg = inner.message().trim_end();
+                SceneError::Parse(if path == "." || path.is_empty() {
+                    format!("{origin}: {msg}")
+                } else {
+                    format!("{origin}: field `{path}`: {msg}")
+                })
+            })?;
         scene.validate()?;
         Ok(scene)
     }

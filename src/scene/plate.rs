@@ -36,9 +36,9 @@ pub enum PlateScheme {
     StormerVerlet,
 }
 
-/// Isotropic material.
+/// Isotropic material; fields left out take the lecture's steel values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(default, deny_unknown_fields)]
 pub struct Material {
     /// Young's modulus E in Pa (1e6 to 1e13).
     pub youngs_modulus: f64,
