@@ -21,6 +21,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod modal;
 pub mod schemes;
 
 pub use error::ParamError;
