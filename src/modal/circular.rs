@@ -11,7 +11,9 @@
 //!   `P_J = x² J_n + (1-ν)(x J_n' - n² J_n)`, `P_I = x² I_n - (1-ν)(x I_n' - n² I_n)`,
 //!   `Q_J = x³ J_n' + (1-ν) n² (x J_n' - J_n)`, `Q_I = x³ I_n' - (1-ν) n² (x I_n' - I_n)`,
 //!   characteristic equation `P_J Q_I - P_I Q_J = 0` (Leissa eq. 2.14; Touzé, Thomas & Chaigne,
-//!   JSV 258(4), 2002, eq. 7) and `c = -P_J I_n(λ)/P_I`.
+//!   JSV 258(4), 2002, eq. 7). For `R = J_n(λr) + C I_n(λr)` the edge moment is
+//!   `M_r ∝ R'' + ν(R' - n²R) = -P_J + C P_I` (and `V_r ∝ -Q_J + C Q_I`), so
+//!   `c = C I_n(λ) = P_J I_n(λ)/P_I`.
 //!
 //! Everything here runs on the worker thread that builds a basis, except
 //! [`RadialFunction::eval`] which is allocation-free and may run on any thread.
@@ -153,9 +155,9 @@ impl RadialFunction {
                 let (pj, pi, qj, qi) = free_rows(nu, n, x, j, dj, i, di);
                 // Use the better-conditioned row (larger I coefficient relative to the row).
                 if pi.abs() / (pj.abs() + pi.abs()) >= qi.abs() / (qj.abs() + qi.abs()) {
-                    -pj * i / pi
+                    pj * i / pi
                 } else {
-                    -qj * i / qi
+                    qj * i / qi
                 }
             }
         };
