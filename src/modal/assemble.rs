@@ -26,6 +26,11 @@ use super::quadrature::GaussLegendre;
 use crate::error::ParamError;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+/// One stored entry `(i, j, H^l_ij)` with `j ≤ i`.
+type Entry = (u32, u32, f64);
+/// The entries of the row of in-plane mode `l` (first field).
+type Row = (usize, Vec<Entry>);
+
 /// Radial functions with their modes: `(index of first mode, modes (index, parity))`.
 struct Class {
     n: u32,
@@ -98,8 +103,8 @@ pub fn assemble(
         .map(|n| n.get())
         .unwrap_or(1)
         .min(sc.len().max(1));
-    let mut rows: Vec<Vec<(u32, u32, f64)>> = vec![Vec::new(); psi.len()];
-    let results: Vec<Vec<(usize, Vec<(u32, u32, f64)>)>> = std::thread::scope(|s| {
+    let mut rows: Vec<Vec<Entry>> = vec![Vec::new(); psi.len()];
+    let results: Vec<Vec<Row>> = std::thread::scope(|s| {
         let handles: Vec<_> = (0..threads)
             .map(|_| {
                 s.spawn(|| {
@@ -159,8 +164,8 @@ fn psi_class_rows(
     b: &[f64],
     c: &[f64],
     q: usize,
-) -> Vec<(usize, Vec<(u32, u32, f64)>)> {
-    let mut rows: Vec<(usize, Vec<(u32, u32, f64)>)> = l
+) -> Vec<Row> {
+    let mut rows: Vec<Row> = l
         .modes
         .iter()
         .map(|&(m, _)| (m as usize, Vec::new()))
@@ -200,7 +205,7 @@ fn radial_block(
     b: &[f64],
     c: &[f64],
     q: usize,
-    rows: &mut [(usize, Vec<(u32, u32, f64)>)],
+    rows: &mut [Row],
 ) {
     // Angular factors first: skip the radial work when every combination vanishes.
     let mut any = false;

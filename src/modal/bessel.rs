@@ -163,7 +163,7 @@ mod tests {
     use super::*;
 
     /// Reference values from mpmath 1.3.0 at 30 digits (`besselj(n,x)`, `besseli(n,x)*exp(-x)`
-    /// and their derivatives via `besselj(n,x,1)`), rounded to 17 significant digits.
+    /// and their derivatives via `besselj(n,x,1)`), rounded to the nearest double (Python `repr(float(..))`).
     /// Columns: n, x, J_n, J_n', e^-x I_n, e^-x I_n'.
     const REF: &[(u32, f64, f64, f64, f64, f64)] = &include!("bessel_ref.in");
 

@@ -226,11 +226,11 @@ mod tests {
     fn kernels_match_dense_sums() {
         // Exact small-integer arithmetic: results compared with dense double sums to 1e-15.
         let t = small();
-        let mut dense = vec![[[0.0; 3]; 3]; 2];
+        let mut dense = [[[0.0; 3]; 3]; 2];
         for (l, d) in dense.iter_mut().enumerate() {
-            for i in 0..3 {
-                for j in 0..3 {
-                    d[i][j] = t.get(l, i, j).unwrap_or(0.0);
+            for (i, row) in d.iter_mut().enumerate() {
+                for (j, x) in row.iter_mut().enumerate() {
+                    *x = t.get(l, i, j).unwrap_or(0.0);
                 }
             }
         }
