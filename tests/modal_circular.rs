@@ -522,9 +522,8 @@ fn cache_round_trip_and_corruption_is_rebuilt() {
         PlateModes::load_or_build(&spec, &dir).unwrap().1,
         CacheOutcome::Hit
     );
-    // A different key (ν) is a different file.
     let spec2 = CircularPlateSpec::new(CircularEdge::Clamped, 0.31, 120, 40, None).unwrap();
-    assert_ne!(cache_file_name(&spec), cache_file_name(&spec2));
+    assert_ne!(cache_file_name(&spec), cache_file_name(&spec2)); // ν is part of the key
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -536,6 +535,9 @@ fn spec_rejects_bad_parameters() {
     assert_eq!(e.field, "n_phi");
     let e = CircularPlateSpec::new(CircularEdge::Free, 0.3, 10, 10, Some(4)).unwrap_err();
     assert!(e.to_string().contains("quad_points") && e.to_string().contains("[16, 8192]"));
+    let mut s = CircularPlateSpec::new(CircularEdge::Free, 0.3, 10, 10, None).unwrap();
+    s.nu = f64::NAN; // public field edited after validation: build re-checks
+    assert_eq!(PlateModes::build(&s).unwrap_err().field, "nu");
 }
 
 /// `G = ∫ Φ L(Φ, F) dS` for an axisymmetric Φ = R(r), where F solves the compatibility

@@ -142,6 +142,18 @@ impl CircularPlateSpec {
             quad_points,
         })
     }
+
+    /// Re-checks a spec whose public fields may have been edited after [`Self::new`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        Self::new(
+            self.edge,
+            self.nu,
+            self.n_phi,
+            self.n_psi,
+            Some(self.quad_points),
+        )
+        .map(|_| ())
+    }
 }
 
 /// Default radial quadrature order: the integrands oscillate and grow (boundary layers of the
@@ -209,6 +221,7 @@ impl PlateModes {
 
     /// Builds modes and tensor (no cache). Worker thread; uses every core.
     pub fn build(spec: &CircularPlateSpec) -> Result<Self, ParamError> {
+        spec.validate()?;
         let (phi, psi) = Self::modes(spec);
         let coupling = assemble(&phi, &psi, spec.quad_points)?;
         Ok(Self::from_parts(*spec, phi, psi, coupling))

@@ -194,6 +194,7 @@ impl PlateModes {
         spec: &CircularPlateSpec,
         cache_dir: &Path,
     ) -> Result<(Self, CacheOutcome), ParamError> {
+        spec.validate()?;
         let (phi, psi) = Self::modes(spec);
         let fp = fingerprint(&phi, &psi);
         let path = cache_dir.join(cache_file_name(spec));
