@@ -13,7 +13,9 @@
 //! - [`analysis`]: measurements on simulated signals (frequency, cents, energy drift) and the
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
-//! - [`plot`]: PNG figures (waveforms, energies, phase portraits);
+//! - [`modal`]: dimensionless modal bases of plates (Φ, Ψ) and their coupling tensors;
+//! - [`scene`], [`render`]: scene files and the offline render loop (WAV, resampling);
+//! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
@@ -21,6 +23,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod modal;
 pub mod plot;
 pub mod render;
 pub mod scene;

@@ -1,0 +1,255 @@
+//! The modal basis of a circular plate: transverse modes Φ, in-plane (Airy) modes Ψ and their
+//! coupling tensor, in dimensionless units (radius `a = 1`, `D = ρh = 1`).
+//!
+//! Conventions (SEED §3.1 and "Facts"):
+//! - `Φ_{n,k}(r, θ) = R_{nk}(r) cos nθ` or `R_{nk}(r) sin nθ`; `n` nodal diameters, `k` interior
+//!   nodal circles (Leissa 1969 labelling; the free plate's `n = 0, 1` elastic modes start at
+//!   `k = 1` because `(0,0)` and `(1,0)` are its rigid-body modes, which are excluded);
+//! - cos/sin pairs count as two modes; modes are sorted by frequency (ties: `n`, `k`, cos first);
+//!   a basis of `N` modes is the first `N` of that list, so the last pair may be cut in half;
+//! - every mode is normalised to `∫_disc Φ² dS = 1` (the disc has area π), likewise Ψ;
+//! - transverse pulsation `ω = λ²` (physical `ω = λ² √(D/ρh)/a²`, see [`omega_scale`]);
+//!   in-plane eigenvalue `ζ⁴` of `ΔΔΨ = ζ⁴ Ψ` with `Ψ = ∂Ψ/∂r = 0` at `r = 1` (edge free of
+//!   in-plane stress; this is the only in-plane condition implemented), `n = 0` included.
+//!
+//! Threads: [`PlateModes::build`] runs on a worker thread (allocates, spawns scoped helpers);
+//! [`PlateModes::phi_at`] and the tensor kernels are allocation-free (audio thread).
+
+use super::angular::Parity;
+use super::assemble::assemble;
+use super::circular::{roots, CircularEdge, RadialFunction};
+use super::coupling::CouplingTensor;
+use crate::error::{check_closed, check_positive, ParamError};
+
+/// One mode of a circular plate.
+///
+/// Plain data built on the worker thread; read by any thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mode {
+    /// Number of nodal diameters `n` (angular order).
+    pub n: u32,
+    /// Number of interior nodal circles `k`.
+    pub k: u32,
+    /// Angular factor: `cos nθ` or `sin nθ`.
+    pub parity: Parity,
+    /// Normalised radial profile (its `lambda` is `λ` for Φ and `ζ` for Ψ).
+    pub radial: RadialFunction,
+}
+
+impl Mode {
+    /// Value of the mode at polar position `(r, theta)`, `0 ≤ r ≤ 1` (dimensionless radius),
+    /// `theta` in radians. Allocation-free.
+    pub fn eval(&self, r: f64, theta: f64) -> f64 {
+        let ang = match self.parity {
+            Parity::Cos => (self.n as f64 * theta).cos(),
+            Parity::Sin => (self.n as f64 * theta).sin(),
+        };
+        self.radial.eval(r)[0] * ang
+    }
+}
+
+/// The first `count` modes of `ΔΔw = λ⁴ w` on the unit disc with the given edge, sorted as in
+/// the module docs (free edge: rigid-body modes excluded). Worker thread; allocates.
+pub fn circular_modes(edge: CircularEdge, nu: f64, count: usize) -> Vec<Mode> {
+    if count == 0 {
+        return Vec::new();
+    }
+    // Weyl's law for the biharmonic on a disc of area π: N(λ) ≈ λ²/4; start just above it.
+    let mut hi = 2.0 * (count as f64).sqrt() + 8.0;
+    loop {
+        let mut all: Vec<Mode> = Vec::new();
+        // Roots of order n exceed about 0.99 n (edge-wave limit), so n < hi/0.9 + 2 suffices.
+        let n_max = (hi / 0.9) as u32 + 2;
+        for n in 0..=n_max {
+            let offset = u32::from(edge == CircularEdge::Free && n <= 1);
+            for (idx, lam) in roots(edge, nu, n, hi).into_iter().enumerate() {
+                let radial = RadialFunction::new(edge, nu, n, lam);
+                let k = idx as u32 + offset;
+                all.push(Mode {
+                    n,
+                    k,
+                    parity: Parity::Cos,
+                    radial,
+                });
+                if n > 0 {
+                    all.push(Mode {
+                        n,
+                        k,
+                        parity: Parity::Sin,
+                        radial,
+                    });
+                }
+            }
+        }
+        if all.len() >= count {
+            all.sort_by(|a, b| {
+                a.radial
+                    .lambda
+                    .total_cmp(&b.radial.lambda)
+                    .then((a.n, a.k, a.parity).cmp(&(b.n, b.k, b.parity)))
+            });
+            all.truncate(count);
+            return all;
+        }
+        hi *= 1.25;
+    }
+}
+
+/// What to build: a circular plate basis.
+///
+/// Plain data, built from user input on any thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CircularPlateSpec {
+    /// Transverse edge condition.
+    pub edge: CircularEdge,
+    /// Poisson's ratio ν (dimensionless, in `[0, 0.5]`); enters the free-edge condition only.
+    pub nu: f64,
+    /// Number of transverse modes `N_Φ` (in `[1, 20000]`).
+    pub n_phi: usize,
+    /// Number of in-plane modes `N_Ψ` (in `[1, 20000]`).
+    pub n_psi: usize,
+    /// Gauss-Legendre points of the radial quadrature of the tensor (in `[16, 8192]`).
+    pub quad_points: usize,
+}
+
+impl CircularPlateSpec {
+    /// Validates the parameters. `quad_points = None` picks [`default_quad_points`].
+    pub fn new(
+        edge: CircularEdge,
+        nu: f64,
+        n_phi: usize,
+        n_psi: usize,
+        quad_points: Option<usize>,
+    ) -> Result<Self, ParamError> {
+        check_closed("nu", nu, 0.0, 0.5)?;
+        for (name, v) in [("n_phi", n_phi), ("n_psi", n_psi)] {
+            if !(1..=20000).contains(&v) {
+                return Err(ParamError::new(name, v, "integer in [1, 20000]"));
+            }
+        }
+        let quad_points = match quad_points {
+            Some(q) if !(16..=8192).contains(&q) => {
+                return Err(ParamError::new("quad_points", q, "integer in [16, 8192]"))
+            }
+            Some(q) => q,
+            None => default_quad_points(edge, nu, n_phi, n_psi),
+        };
+        Ok(Self {
+            edge,
+            nu,
+            n_phi,
+            n_psi,
+            quad_points,
+        })
+    }
+
+    /// Re-checks a spec whose public fields may have been edited after [`Self::new`].
+    pub fn validate(&self) -> Result<(), ParamError> {
+        Self::new(
+            self.edge,
+            self.nu,
+            self.n_phi,
+            self.n_psi,
+            Some(self.quad_points),
+        )
+        .map(|_| ())
+    }
+}
+
+/// Default radial quadrature order: the integrands oscillate and grow (boundary layers of the
+/// `I_n` terms) with rate up to `κ = 2 λ_max + ζ_max`; we take `Q = 40 + 0.75 κ`, rounded up to
+/// a multiple of 8 (160 for the 1000/300 gong, κ ≈ 160). Measured margin: for that basis
+/// `Q = 96` already agrees with `Q = 480` to 1e-14 of max|H|; the doubling test in
+/// `tests/modal_circular.rs` checks `Q` against `2Q`.
+pub fn default_quad_points(edge: CircularEdge, nu: f64, n_phi: usize, n_psi: usize) -> usize {
+    let lam = circular_modes(edge, nu, n_phi)
+        .last()
+        .map_or(0.0, |m| m.radial.lambda);
+    let zeta = circular_modes(CircularEdge::Clamped, nu, n_psi)
+        .last()
+        .map_or(0.0, |m| m.radial.lambda);
+    let q = 40.0 + 0.75 * (2.0 * lam + zeta);
+    (q.ceil() as usize).div_ceil(8) * 8
+}
+
+/// Physical scale of the transverse pulsations: `ω_phys = λ² · omega_scale` with
+/// `omega_scale = √(D/(ρh))/a²` in rad/s, `D = E h³/(12(1-ν²))`. Arguments in SI units:
+/// radius `a` (m), thickness `h` (m), Young's modulus `E` (Pa), density `ρ` (kg/m³), ν.
+pub fn omega_scale(
+    radius: f64,
+    thickness: f64,
+    young: f64,
+    density: f64,
+    nu: f64,
+) -> Result<f64, ParamError> {
+    check_positive("radius", radius)?;
+    check_positive("thickness", thickness)?;
+    check_positive("young", young)?;
+    check_positive("density", density)?;
+    check_closed("nu", nu, 0.0, 0.5)?;
+    let d = young * thickness.powi(3) / (12.0 * (1.0 - nu * nu));
+    Ok((d / (density * thickness)).sqrt() / (radius * radius))
+}
+
+/// The modal basis of a circular plate and its coupling tensor.
+///
+/// Built on a worker thread ([`PlateModes::build`] or `load_or_build`); read-only afterwards,
+/// shared with the audio thread.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlateModes {
+    /// What was built.
+    pub spec: CircularPlateSpec,
+    /// Transverse modes Φ, sorted by frequency (length `N_Φ`).
+    pub phi: Vec<Mode>,
+    /// In-plane modes Ψ, sorted by `ζ` (length `N_Ψ`).
+    pub psi: Vec<Mode>,
+    /// Dimensionless transverse pulsations `ω_i = λ_i²` (length `N_Φ`).
+    pub omega: Vec<f64>,
+    /// In-plane eigenvalues `ζ_l⁴` (length `N_Ψ`, dimensionless).
+    pub zeta4: Vec<f64>,
+    /// `H^l_{ij} = ∫ Ψ_l L(Φ_i, Φ_j) dS` (dimensionless); `E^s_{i,j} = H^j_{s,i}`.
+    pub coupling: CouplingTensor,
+}
+
+impl PlateModes {
+    /// Computes the modes (only, no tensor): `(phi, psi)`. Worker thread.
+    pub fn modes(spec: &CircularPlateSpec) -> (Vec<Mode>, Vec<Mode>) {
+        let phi = circular_modes(spec.edge, spec.nu, spec.n_phi);
+        let psi = circular_modes(CircularEdge::Clamped, spec.nu, spec.n_psi);
+        (phi, psi)
+    }
+
+    /// Builds modes and tensor (no cache). Worker thread; uses every core.
+    pub fn build(spec: &CircularPlateSpec) -> Result<Self, ParamError> {
+        spec.validate()?;
+        let (phi, psi) = Self::modes(spec);
+        let coupling = assemble(&phi, &psi, spec.quad_points)?;
+        Ok(Self::from_parts(*spec, phi, psi, coupling))
+    }
+
+    /// Assembles the struct from modes and a tensor of matching sizes.
+    pub(crate) fn from_parts(
+        spec: CircularPlateSpec,
+        phi: Vec<Mode>,
+        psi: Vec<Mode>,
+        coupling: CouplingTensor,
+    ) -> Self {
+        let omega = phi.iter().map(|m| m.radial.lambda.powi(2)).collect();
+        let zeta4 = psi.iter().map(|m| m.radial.lambda.powi(4)).collect();
+        Self {
+            spec,
+            phi,
+            psi,
+            omega,
+            zeta4,
+            coupling,
+        }
+    }
+
+    /// Value of transverse mode `mode` at `(r, theta)` (dimensionless radius in `[0, 1]`,
+    /// radians), e.g. for strike and pickup positions. Allocation-free (any thread).
+    /// Panics if `mode >= N_Φ`.
+    pub fn phi_at(&self, mode: usize, r: f64, theta: f64) -> f64 {
+        self.phi[mode].eval(r, theta)
+    }
+}
