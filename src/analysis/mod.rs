@@ -5,5 +5,6 @@
 //! - [`analytic`]: exact solutions (linear damped oscillator, Duffing via Jacobi `cn`) and the
 //!   closed-form numerical frequency of the θ-family.
 
+pub mod analytic;
 pub mod energy;
 pub mod frequency;
