@@ -6,9 +6,9 @@
 //!   discrete energy is exactly conserved.
 //! - [`DuffingConservative`]: the (θ1, θ2) family
 //!   `δ_{tt}u + ω0²(θ1 + (1-θ1)μ_{t.})u + γ(θ2 u² + (1-θ2) μ_{t.}(u²)) μ_{t.}u = 0`, which
-//!   conserves `h_n = ½(δ_{t-}u)² + ω0²(θ1 ½ u e_{t-}u + (1-θ1) ½ μ_{t-}u²)
-//!   + (γ/4)(θ2 u²(e_{t-}u)² + (1-θ2) μ_{t-}(u⁴))` exactly (S. Bilbao, *Numerical Sound
-//!   Synthesis*, Wiley 2009, section 4.2).
+//!   conserves exactly (S. Bilbao, *Numerical Sound Synthesis*, Wiley 2009, section 4.2)
+//!   `h_n = ½(δ_{t-}u)² + ω0²(θ1 ½ u e_{t-}u + (1-θ1) ½ μ_{t-}u²) +
+//!   (γ/4)(θ2 u²(e_{t-}u)² + (1-θ2) μ_{t-}(u⁴))`.
 //!
 //! Both store `(u_n, d_n)`, `d_n = u_n - u_{n-1}`, and compute the second difference
 //! `q = u_{n+1} - 2u_n + u_{n-1}`, then `d_{n+1} = d_n + q`, `u_{n+1} = u_n + d_{n+1}`: the
@@ -21,7 +21,7 @@
 //! `s = u_{n+1} + u_{n-1}` the nonlinear term is `(γh²/4)[2θ2u_n² s + (1-θ2) s(s² - 2su_{n-1} +
 //! 2u_{n-1}²)]` whose derivative `3s² - 4su_{n-1} + 2u_{n-1}²` has negative discriminant, so
 //! `G' ≥ c1 ≥ 1`: one real root, lying within `|G(q̂)|` of any guess `q̂`. It is found by
-//! [`solve_increasing`] (Newton with a bisection safeguard) from the θ2 = 1 value.
+//! `solve_increasing` (Newton with a bisection safeguard) from the θ2 = 1 value.
 //!
 //! Starting values (both schemes): `u_{-1} = u_1 - 2h v0` so that `δ_{t.}u_0 = v0`, with the
 //! explicit (θ2 = 1, or Verlet) second difference `q̂(u0)`: `d_0 = h v0 - q̂(u0)/2`. This is the
@@ -60,10 +60,10 @@ pub(crate) fn solve_increasing(
     tol: impl Fn(f64) -> f64,
 ) -> Root {
     let mut x = x0;
-    if !(x >= lo) {
+    if x < lo || x.is_nan() {
         x = lo;
     }
-    if !(x <= hi) {
+    if x > hi {
         x = hi;
     }
     for it in 1..=MAX_ITERATIONS {

@@ -18,7 +18,7 @@
 //! increasing (`G' ≥ c0 ≥ 1`) and convex: one root. Without contact the root is the θ-scheme
 //! value `q_L = -w u_n / c0`; contact only pushes back, so the root lies in
 //! `[q_L - (h²/m)Q(q_L)/c0, q_L]` and Newton started at `q_L` decreases monotonically to it
-//! (convexity); [`solve_increasing`] adds a bisection safeguard and an iteration cap (then the
+//! (convexity); `solve_increasing` adds a bisection safeguard and an iteration cap (then the
 //! last iterate is used and `solver_failures` is incremented).
 //!
 //! # Rounding
@@ -145,7 +145,7 @@ impl ImpactScheme {
     /// (step n-1) and `xb` (step n+1), and `∂Q/∂xb` (see the module docs for the forms used).
     fn secant(&self, xa: f64, xb: f64) -> (f64, f64) {
         let (lo, hi) = if xa <= xb { (xa, xb) } else { (xb, xa) };
-        if !(hi > 0.0) {
+        if hi <= 0.0 || hi.is_nan() {
             return (0.0, 0.0);
         }
         let (k, a) = (self.contact_stiffness, self.alpha);
