@@ -6,7 +6,7 @@
 //!   discrete energy is exactly conserved.
 //! - [`DuffingConservative`]: the (θ1, θ2) family
 //!   `δ_{tt}u + ω0²(θ1 + (1-θ1)μ_{t.})u + γ(θ2 u² + (1-θ2) μ_{t.}(u²)) μ_{t.}u = 0`, which
-//!   conserves exactly (S. Bilbao, *Numerical Sound Synthesis*, Wiley 2009, section 4.2)
+//!   conserves exactly (S. Bilbao, *Numerical Sound Synthesis*, Wiley 2009, chapter 4)
 //!   `h_n = ½(δ_{t-}u)² + ω0²(θ1 ½ u e_{t-}u + (1-θ1) ½ μ_{t-}u²) +
 //!   (γ/4)(θ2 u²(e_{t-}u)² + (1-θ2) μ_{t-}(u⁴))`.
 //!

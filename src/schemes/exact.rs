@@ -11,11 +11,13 @@
 //! `expm1(-σh)² + 4 e^{-σh} sin²(ω_d h/2)` for `ξ < 1` (`σ = ξω0`, `ω_d = ω0√(1-ξ²)`),
 //! `expm1(-ω0h)²` for `ξ = 1` (no `0/0` at the critical value), `expm1(λ1h) expm1(λ2h)` for
 //! `ξ > 1` with `λ1 = -ω0/(ξ + √(ξ²-1))`. The first step is `u_1 = u(h)` from
-//! [`crate::analysis::analytic::damped_linear`]; `u_{-1} = u(-h)` is the history.
+//! [`crate::analysis::analytic::damped_linear`]; `u_{-1} = u(-h)` is the history (used only
+//! by the energy at `n = 0` and the first dissipation increment: if `u(-h)` overflows, for
+//! `ξω0h` in the hundreds, those are infinite while the samples stay exact).
 //!
 //! # Discrete energy balance
 //! Splitting the recurrence into centred differences (as in S. Bilbao, *Numerical Sound
-//! Synthesis*, Wiley 2009, section 3.5) gives the equivalent form
+//! Synthesis*, Wiley 2009, chapter 3, lossy oscillator) gives the equivalent form
 //! `δ_{tt}u + 2σ̃ δ_{t.}u + Ω̃² u = 0`, with
 //! `σ̃ = (1 - a2) / ((1 + a2) h) = tanh(ξω0h)/h` and `Ω̃² = 2b / ((1 + a2) h²)`.
 //! Multiplying by `δ_{t.}u` and using the identities of SEED.md section 0:

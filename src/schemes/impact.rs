@@ -3,7 +3,7 @@
 //!
 //! Potential `Φ(u) = K/(α+1) [u - d]_+^{α+1}`, `H = ½ m u̇² + ½ k u² + Φ(u)`. Scheme:
 //! `m δ_{tt}u + k(θ + (1-θ)μ_{t.})u = -f_n`, `f_n = (Φ(u_{n+1}) - Φ(u_{n-1})) / (u_{n+1} - u_{n-1})`
-//! (S. Bilbao, *Numerical Sound Synthesis*, Wiley 2009, section 4.3; C. Issanchou et al.,
+//! (S. Bilbao, *Numerical Sound Synthesis*, Wiley 2009, chapter 4; C. Issanchou et al.,
 //! J. Sound Vib. 2017). Multiplying by `δ_{t.}u` gives `δ_{t+} E_n = 0` with
 //! `E_n = ½m(δ_{t-}u_n)² + k(θ ½ u_n u_{n-1} + (1-θ) ½ μ_{t-}u_n²) + μ_{t-}Φ(u_n)`.
 //! SEED.md writes the contact term as `μ_{t+}Φ(u_n)`, paired with a `δ_{t+}` kinetic term; here

@@ -1,7 +1,7 @@
 //! The θ-family for the linear oscillator `ü + ω0² u = 0` (SEED.md section 1.1).
 //!
 //! Scheme: `δ_{tt}u + ω0² (θ + (1-θ) μ_{t.}) u = 0`, θ in [0, 1] (S. Bilbao, *Numerical Sound
-//! Synthesis*, Wiley 2009, section 3.3). With `w = h²ω0²` it is the two-step recurrence
+//! Synthesis*, Wiley 2009, chapter 3). With `w = h²ω0²` it is the two-step recurrence
 //! `u_{n+1} = 2c u_n - u_{n-1}`, `c = (1 - θw/2) / (1 + (1-θ)w/2)`.
 //!
 //! Implementation: the state is `(u_n, d_n)` with the increment `d_n = u_n - u_{n-1}`, updated
