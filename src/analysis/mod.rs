@@ -5,6 +5,7 @@
 //! - [`analytic`]: exact solutions (linear damped oscillator, Duffing via Jacobi `cn`) and the
 //!   closed-form numerical frequency of the θ-family.
 
+pub mod analytic;
 pub mod energy;
 pub mod frequency;
 pub mod spectrogram;

@@ -8,7 +8,14 @@
 //! Lifecycle of every stepper: build (validates parameters, allocates), `reset` (sets initial
 //! conditions, no allocation), `step` (no allocation, bounded work).
 
+pub mod duffing;
+pub mod exact;
+pub mod impact;
+pub mod linear;
 pub mod ndof;
+pub mod spec;
+
+pub use spec::{build_oscillator, OscillatorSpec};
 
 /// Counters a stepper keeps about its own work (Newton iterations and the like).
 ///
