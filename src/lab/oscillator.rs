@@ -79,7 +79,7 @@ impl OscillatorExperiment {
         trace.reference_label = label;
         let max_err = reference.as_ref().map(|r| max_abs_difference(&trace.u, r));
         trace.reference = reference;
-        let summary = self.summarise(&trace, steps, stats, max_err);
+        let summary = self.summarise(&trace, steps, stats, max_err)?;
         Ok(OscillatorRun { trace, summary })
     }
 
@@ -88,19 +88,20 @@ impl OscillatorExperiment {
         let (u0, v0) = (self.u0, self.v0);
         match self.spec {
             OscillatorSpec::Theta { omega0, .. } => Ok((
-                Some(t.iter().map(|&t| analytic::linear_damped(omega0, 0.0, u0, v0, t).0).collect()),
+                Some(t.iter().map(|&t| analytic::damped_linear(omega0, 0.0, u0, v0, t).0).collect()),
                 "exact solution".into(),
             )),
             OscillatorSpec::Exact { omega0, xi } => Ok((
-                Some(t.iter().map(|&t| analytic::linear_damped(omega0, xi, u0, v0, t).0).collect()),
+                Some(t.iter().map(|&t| analytic::damped_linear(omega0, xi, u0, v0, t).0).collect()),
                 "exact solution".into(),
             )),
             OscillatorSpec::DuffingVerlet { omega0, gamma }
             | OscillatorSpec::DuffingConservative { omega0, gamma, .. }
                 if v0 == 0.0 =>
             {
+                let exact = analytic::DuffingFree::new(omega0, gamma, u0)?;
                 Ok((
-                    Some(t.iter().map(|&t| analytic::duffing_free(omega0, gamma, u0, t)).collect()),
+                    Some(t.iter().map(|&t| exact.displacement(t)).collect()),
                     "exact solution u0 cn(Ωt, m)".into(),
                 ))
             }
@@ -114,8 +115,8 @@ impl OscillatorExperiment {
     }
 
     /// Reference frequency for the cents figure, and what it is.
-    fn reference_frequency(&self) -> (f64, String) {
-        match self.spec {
+    fn reference_frequency(&self) -> Result<(f64, String), ParamError> {
+        Ok(match self.spec {
             OscillatorSpec::Theta { omega0, .. } => (omega0, "omega0".into()),
             OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => {
                 (omega0 * (1.0 - xi * xi).sqrt(), "damped natural frequency omega0*sqrt(1-xi^2)".into())
@@ -123,9 +124,9 @@ impl OscillatorExperiment {
             OscillatorSpec::Exact { omega0, .. } => (omega0, "omega0".into()),
             OscillatorSpec::DuffingVerlet { omega0, gamma }
             | OscillatorSpec::DuffingConservative { omega0, gamma, .. } => {
-                let amplitude = analytic::duffing_amplitude(omega0, gamma, self.u0, self.v0);
+                let exact = analytic::DuffingFree::new(omega0, gamma, duffing_amplitude(omega0, gamma, self.u0, self.v0))?;
                 (
-                    std::f64::consts::TAU / analytic::duffing_period(omega0, gamma, amplitude),
+                    exact.angular_frequency(),
                     "exact nonlinear frequency 2*pi/T, T = 4K(m)/Omega".into(),
                 )
             }
@@ -133,18 +134,18 @@ impl OscillatorExperiment {
                 self.linear_omega0().unwrap_or(f64::NAN),
                 "omega0 of the linear spring (contact raises the frequency)".into(),
             ),
-        }
+        })
     }
 
-    fn summarise(&self, trace: &Trace, steps: u64, stats: StepperStats, max_err: Option<f64>) -> Summary {
+    fn summarise(&self, trace: &Trace, steps: u64, stats: StepperStats, max_err: Option<f64>) -> Result<Summary, ParamError> {
         let measured = frequency::measure(&trace.u, self.h);
-        let (omega_ref, omega_ref_kind) = self.reference_frequency();
+        let (omega_ref, omega_ref_kind) = self.reference_frequency()?;
         let closed = match self.spec {
-            OscillatorSpec::Theta { omega0, theta } => analytic::theta_omega_d(omega0, theta, self.h),
+            OscillatorSpec::Theta { omega0, theta } => analytic::theta_frequency(theta, self.h, omega0),
             _ => None,
         };
         let finite = trace.u.iter().chain(&trace.v).chain(&trace.energy).all(|x| x.is_finite());
-        Summary {
+        Ok(Summary {
             system: self.system_name().into(),
             scheme: self.spec.scheme_name().into(),
             h: self.h,
@@ -162,7 +163,22 @@ impl OscillatorExperiment {
             solver_failures: stats.solver_failures,
             impacts: stats.impacts,
             finite,
-        }
+        })
+    }
+}
+
+/// Amplitude (largest displacement) of the free Duffing motion with energy
+/// `H0 = ½v0² + ½ω0²u0² + ¼γu0⁴`: the positive root of `½ω0²A² + ¼γA⁴ = H0`. The period of a
+/// free Duffing oscillation depends on its energy only, so this gives the exact reference
+/// period for any initial condition.
+pub fn duffing_amplitude(omega0: f64, gamma: f64, u0: f64, v0: f64) -> f64 {
+    let w2 = omega0 * omega0;
+    let h0 = 0.5 * v0 * v0 + 0.5 * w2 * u0 * u0 + 0.25 * gamma * u0.powi(4);
+    if gamma > 0.0 {
+        // A² = (√(ω0⁴ + 4γH0) - ω0²)/γ, written without cancellation.
+        (4.0 * h0 / (w2 + (w2 * w2 + 4.0 * gamma * h0).sqrt())).sqrt()
+    } else {
+        (2.0 * h0 / w2).sqrt()
     }
 }
 

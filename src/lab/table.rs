@@ -31,7 +31,7 @@ pub fn theta_table(h: f64, omega0: f64, thetas: &[f64]) -> Result<Vec<ThetaRow>,
         .map(|&theta| {
             check_closed("theta", theta, 0.0, 1.0)?;
             let limit = analytic::theta_stability_limit(theta);
-            let omega_d = analytic::theta_omega_d(omega0, theta, h);
+            let omega_d = analytic::theta_frequency(theta, h, omega0);
             Ok(ThetaRow {
                 theta,
                 h_omega0_limit: limit.is_finite().then_some(limit),

@@ -1,0 +1,104 @@
+//! `noether modes`: list a plate's transverse modes with labels, dimensionless eigenvalues and
+//! frequencies for a given material and size.
+
+use clap::{Args, ValueEnum};
+use noether::modal::{circular_modes, omega_scale, CircularEdge, Parity};
+use serde::Serialize;
+
+/// Plate families.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PlateArg {
+    /// Circular plate, free edge.
+    CircularFree,
+    /// Circular plate, clamped edge.
+    CircularClamped,
+}
+
+/// Arguments of `noether modes`.
+#[derive(Debug, Args)]
+pub struct ModesArgs {
+    /// Plate geometry and boundary condition.
+    #[arg(long, value_enum)]
+    pub plate: PlateArg,
+    /// Number of modes to list (1 to 20000).
+    #[arg(long, default_value_t = 20)]
+    pub count: usize,
+    /// Poisson's ratio nu (0 to 0.5).
+    #[arg(long, default_value_t = 0.3)]
+    pub nu: f64,
+    /// Radius (circular plates) in m.
+    #[arg(long, default_value_t = 0.4)]
+    pub radius: f64,
+    /// Thickness in m.
+    #[arg(long, default_value_t = 0.001)]
+    pub thickness: f64,
+    /// Young's modulus in Pa.
+    #[arg(long = "youngs-modulus", default_value_t = 2e11)]
+    pub youngs_modulus: f64,
+    /// Density in kg/m^3.
+    #[arg(long, default_value_t = 7860.0)]
+    pub density: f64,
+    /// Print JSON (one array of objects) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// One listed mode.
+#[derive(Debug, Serialize)]
+struct Row {
+    index: usize,
+    label: String,
+    /// λ² = ω a² √(ρh/D).
+    lambda2: f64,
+    frequency_hz: f64,
+}
+
+/// Runs `noether modes`.
+pub fn run(a: ModesArgs) -> Result<(), String> {
+    if !(1..=20_000).contains(&a.count) {
+        return Err(format!("invalid value for `--count`: {} (allowed: 1 to 20000)", a.count));
+    }
+    if !(0.0..=0.5).contains(&a.nu) {
+        return Err(format!("invalid value for `--nu`: {} (allowed: [0, 0.5])", a.nu));
+    }
+    let edge = match a.plate {
+        PlateArg::CircularFree => CircularEdge::Free,
+        PlateArg::CircularClamped => CircularEdge::Clamped,
+    };
+    let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu).map_err(|e| e.to_string())?;
+    let rows: Vec<Row> = circular_modes(edge, a.nu, a.count)
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            let l2 = m.radial.lambda * m.radial.lambda;
+            let p = match m.parity {
+                Parity::Cos => "cos",
+                Parity::Sin => "sin",
+            };
+            Row {
+                index: i + 1,
+                label: format!("({},{}) {p}", m.n, m.k),
+                lambda2: l2,
+                frequency_hz: l2 * scale / std::f64::consts::TAU,
+            }
+        })
+        .collect();
+    if a.json {
+        println!("{}", serde_json::to_string(&rows).map_err(|e| e.to_string())?);
+    } else {
+        println!(
+            "{} plate, nu = {}, a = {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",
+            edge.name(),
+            a.nu,
+            a.radius,
+            a.thickness,
+            a.youngs_modulus,
+            a.density
+        );
+        println!("{:>6} {:>14} {:>16} {:>14}", "index", "(n,k)", "lambda^2", "f (Hz)");
+        for r in rows {
+            println!("{:>6} {:>14} {:>16.10} {:>14.4}", r.index, r.label, r.lambda2, r.frequency_hz);
+        }
+    }
+    Ok(())
+}
