@@ -8,6 +8,16 @@
 
 use super::StepperStats;
 
+pub mod butcher;
+pub mod gauss;
+pub mod methods;
+pub mod runge_kutta;
+pub mod systems;
+pub mod verlet;
+
+pub use methods::{build_method, build_method_for_system, METHOD_NAMES};
+pub use systems::{build_system, SystemSpec};
+
 /// A Hamiltonian system `ẏ = J⁻¹ ∇H(y)`, `y = [q; p]`.
 ///
 /// Implementations are immutable parameter holders; any thread may evaluate them.
