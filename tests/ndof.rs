@@ -13,6 +13,34 @@ use noether::schemes::ndof::{
     SystemSpec, METHOD_NAMES,
 };
 
+/// Global allocator that counts allocations made by the current thread, so that a test can
+/// assert `step` never allocates (tests run on parallel threads; the counter is per thread).
+struct CountingAlloc;
+
+thread_local! {
+    static ALLOCATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        // `try_with`: the thread-local may already be torn down at thread exit.
+        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+        // SAFETY: forwarded unchanged to the system allocator.
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        // SAFETY: `ptr` came from `System.alloc` with this layout.
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAlloc = CountingAlloc;
+
+fn allocations() -> u64 {
+    ALLOCATIONS.with(|c| c.get())
+}
+
 /// One row of the harness: a factory name and what the literature says about the method.
 struct Case {
     /// Factory name.
@@ -60,6 +88,30 @@ const CASES: &[Case] = &[
         symplectic: true,
     },
 ];
+
+/// `step` never allocates: after building (which allocates the scratch), 100 steps of every
+/// method on the FPU chain (n = 4) and on Kepler must not call the allocator at all. Exact count:
+/// no tolerance. The count is checked to work by allocating a `Vec` in between.
+#[test]
+fn step_does_not_allocate() {
+    let fpu = FpuChain::new(4, 1.0, 0.5).unwrap();
+    let kepler = Kepler::new(1.0).unwrap();
+    for c in CASES {
+        let mut m = build_method(c.name, 4).unwrap();
+        let mut y = [0.1, -0.2, 0.3, 0.0, 0.2, 0.1, -0.1, 0.3];
+        let mut mk = build_method(c.name, 2).unwrap();
+        let mut yk = [0.5, 0.0, 0.0, 1.7];
+        let before = allocations();
+        integrate(m.as_mut(), &fpu, 0.05, 100, &mut y);
+        integrate(mk.as_mut(), &kepler, 0.01, 100, &mut yk);
+        assert_eq!(allocations(), before, "{} allocated in step", c.name);
+        let v = std::hint::black_box(vec![1.0_f64; 3]);
+        assert!(
+            allocations() > before && v.len() == 3,
+            "the counter must see allocations"
+        );
+    }
+}
 
 /// Runs `steps` steps of size `h` from `y` in place.
 fn integrate(

@@ -42,7 +42,7 @@ pub struct ButcherTableau {
     pub c: &'static [f64],
 }
 
-/// Explicit midpoint rule (Runge 1895), order 2: HLW section II.1.1, Butcher (2008) table 232.
+/// Explicit midpoint rule (Runge 1895), order 2: HLW section II.1.1; Butcher (2008), chapter 2.
 pub static EXPLICIT_MIDPOINT: ButcherTableau = ButcherTableau {
     name: "midpoint",
     stages: 2,
@@ -52,7 +52,7 @@ pub static EXPLICIT_MIDPOINT: ButcherTableau = ButcherTableau {
     c: &[0.0, 0.5],
 };
 
-/// Heun's method (explicit trapezoidal rule), order 2: Butcher (2008) section 232.
+/// Heun's method (explicit trapezoidal rule), order 2: Butcher (2008), chapter 2 (Heun 1900).
 pub static HEUN: ButcherTableau = ButcherTableau {
     name: "heun",
     stages: 2,

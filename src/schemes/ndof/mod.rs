@@ -5,6 +5,11 @@
 //!
 //! Methods are objects built for one state dimension (scratch allocated at build time), then
 //! stepped in place: `method.step(&system, h, &mut y)` never allocates.
+//!
+//! Modules: [`butcher`] (tableaus as data, order and symplecticity conditions),
+//! [`runge_kutta`] (explicit RK), [`gauss`] (implicit RK with simplified Newton),
+//! [`verlet`] (Störmer-Verlet), [`systems`] (FPU chain, linear chain, pendulum, Kepler and
+//! [`SystemSpec`]), [`methods`] ([`METHOD_NAMES`], [`build_method`]).
 
 use super::StepperStats;
 
