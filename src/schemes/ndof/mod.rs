@@ -5,8 +5,23 @@
 //!
 //! Methods are objects built for one state dimension (scratch allocated at build time), then
 //! stepped in place: `method.step(&system, h, &mut y)` never allocates.
+//!
+//! Modules: [`butcher`] (tableaus as data, order and symplecticity conditions),
+//! [`runge_kutta`] (explicit RK), [`gauss`] (implicit RK with simplified Newton),
+//! [`verlet`] (Störmer-Verlet), [`systems`] (FPU chain, linear chain, pendulum, Kepler and
+//! [`SystemSpec`]), [`methods`] ([`METHOD_NAMES`], [`build_method`]).
 
 use super::StepperStats;
+
+pub mod butcher;
+pub mod gauss;
+pub mod methods;
+pub mod runge_kutta;
+pub mod systems;
+pub mod verlet;
+
+pub use methods::{build_method, build_method_for_system, METHOD_NAMES};
+pub use systems::{build_system, SystemSpec};
 
 /// A Hamiltonian system `ẏ = J⁻¹ ∇H(y)`, `y = [q; p]`.
 ///
