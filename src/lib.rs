@@ -23,6 +23,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod lab;
 pub mod modal;
 pub mod plot;
 pub mod render;

@@ -1,4 +1,7 @@
-//! The `noether` command-line tool (being assembled).
-fn main() {
-    println!("noether {}", env!("CARGO_PKG_VERSION"));
+//! The `noether` command-line tool: `noether --help` lists the commands.
+
+mod cli;
+
+fn main() -> std::process::ExitCode {
+    cli::main()
 }

@@ -2,6 +2,7 @@
 //! work is done by the library).
 
 mod lab;
+mod modes;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// The integrator lab: the lecture's experiments on one oscillator and on N-DOF systems.
     Lab(lab::LabArgs),
+    /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
+    Modes(modes::ModesArgs),
 }
 
 /// Parses the process arguments and runs the command.
@@ -27,6 +30,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Lab(args)) => lab::run(args),
+        Some(Command::Modes(args)) => modes::run(args),
         None => lab::run_all_figures(std::path::Path::new("out/lab")),
     };
     match result {

@@ -56,16 +56,23 @@ struct Row {
 /// Runs `noether modes`.
 pub fn run(a: ModesArgs) -> Result<(), String> {
     if !(1..=20_000).contains(&a.count) {
-        return Err(format!("invalid value for `--count`: {} (allowed: 1 to 20000)", a.count));
+        return Err(format!(
+            "invalid value for `--count`: {} (allowed: 1 to 20000)",
+            a.count
+        ));
     }
     if !(0.0..=0.5).contains(&a.nu) {
-        return Err(format!("invalid value for `--nu`: {} (allowed: [0, 0.5])", a.nu));
+        return Err(format!(
+            "invalid value for `--nu`: {} (allowed: [0, 0.5])",
+            a.nu
+        ));
     }
     let edge = match a.plate {
         PlateArg::CircularFree => CircularEdge::Free,
         PlateArg::CircularClamped => CircularEdge::Clamped,
     };
-    let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu).map_err(|e| e.to_string())?;
+    let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)
+        .map_err(|e| e.to_string())?;
     let rows: Vec<Row> = circular_modes(edge, a.nu, a.count)
         .iter()
         .enumerate()
@@ -84,7 +91,10 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
         })
         .collect();
     if a.json {
-        println!("{}", serde_json::to_string(&rows).map_err(|e| e.to_string())?);
+        println!(
+            "{}",
+            serde_json::to_string(&rows).map_err(|e| e.to_string())?
+        );
     } else {
         println!(
             "{} plate, nu = {}, a = {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",
@@ -95,9 +105,15 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
             a.youngs_modulus,
             a.density
         );
-        println!("{:>6} {:>14} {:>16} {:>14}", "index", "(n,k)", "lambda^2", "f (Hz)");
+        println!(
+            "{:>6} {:>14} {:>16} {:>14}",
+            "index", "(n,k)", "lambda^2", "f (Hz)"
+        );
         for r in rows {
-            println!("{:>6} {:>14} {:>16.10} {:>14.4}", r.index, r.label, r.lambda2, r.frequency_hz);
+            println!(
+                "{:>6} {:>14} {:>16.10} {:>14.4}",
+                r.index, r.label, r.lambda2, r.frequency_hz
+            );
         }
     }
     Ok(())

@@ -36,11 +36,21 @@ fn osc(spec: OscillatorSpec, h: f64, u0: f64, duration: Duration) -> Experiment 
 }
 
 fn theta(theta: f64, periods: f64) -> Experiment {
-    osc(OscillatorSpec::Theta { omega0: 1.0, theta }, 0.125, 1.0, Duration::Periods(periods))
+    osc(
+        OscillatorSpec::Theta { omega0: 1.0, theta },
+        0.125,
+        1.0,
+        Duration::Periods(periods),
+    )
 }
 
 fn exact(xi: f64, h: f64, periods: f64) -> Experiment {
-    osc(OscillatorSpec::Exact { omega0: 1.0, xi }, h, 1.0, Duration::Periods(periods))
+    osc(
+        OscillatorSpec::Exact { omega0: 1.0, xi },
+        h,
+        1.0,
+        Duration::Periods(periods),
+    )
 }
 
 fn ndof(system: SystemSpec, method: &str, h: f64, amplitude: f64, periods: f64) -> Experiment {
@@ -62,7 +72,11 @@ pub fn all() -> Vec<Figure> {
         theta1,
         theta2,
     };
-    let fpu = SystemSpec::Fpu { n: 8, k: 1.0, beta: 1.0 };
+    let fpu = SystemSpec::Fpu {
+        n: 8,
+        k: 1.0,
+        beta: 1.0,
+    };
     let mut v = vec![
         Figure { name: "theta1-150", caption: "1.1: theta = 1 (explicit), h = 0.125 (~50 points/period), after 150 periods", experiment: theta(1.0, 150.0) },
         Figure { name: "theta0-50", caption: "1.1: theta = 0 (implicit), h = 0.125, after 50 periods", experiment: theta(0.0, 50.0) },
@@ -94,7 +108,13 @@ pub fn all() -> Vec<Figure> {
     v.push(Figure {
         name: "pendulum-gauss1",
         caption: "2: pendulum with the implicit midpoint rule (Gauss 1 stage)",
-        experiment: ndof(SystemSpec::Pendulum { omega0: 1.0 }, "gauss1", 0.2, 2.0, 50.0),
+        experiment: ndof(
+            SystemSpec::Pendulum { omega0: 1.0 },
+            "gauss1",
+            0.2,
+            2.0,
+            50.0,
+        ),
     });
     v
 }

@@ -37,7 +37,11 @@ impl Duration {
     /// `omega0`; errors if it is not positive or exceeds [`MAX_STEPS`].
     pub fn steps(self, h: f64, omega0: f64) -> Result<u64, ParamError> {
         let (field, value, span) = match self {
-            Duration::Periods(p) => ("periods", p, check_positive("periods", p)? * std::f64::consts::TAU / omega0),
+            Duration::Periods(p) => (
+                "periods",
+                p,
+                check_positive("periods", p)? * std::f64::consts::TAU / omega0,
+            ),
             Duration::Seconds(s) => ("seconds", s, check_positive("seconds", s)?),
         };
         let steps = (span / h).round();
@@ -116,17 +120,30 @@ pub struct Summary {
 impl Summary {
     /// Multi-line human-readable rendering.
     pub fn to_text(&self) -> String {
-        let opt = |v: Option<f64>, prec: usize| v.map_or("n/a (no oscillation)".to_string(), |x| format!("{x:.prec$}"));
+        let opt = |v: Option<f64>, prec: usize| {
+            v.map_or("n/a (no oscillation)".to_string(), |x| {
+                format!("{x:.prec$}")
+            })
+        };
         let mut s = String::new();
-        s += &format!("system {}, scheme {}, h = {}, {} steps\n", self.system, self.scheme, self.h, self.steps);
+        s += &format!(
+            "system {}, scheme {}, h = {}, {} steps\n",
+            self.system, self.scheme, self.h, self.steps
+        );
         s += &format!("  omega_d (measured)     {}\n", opt(self.omega_d, 12));
         if let Some(w) = self.omega_d_closed_form {
             s += &format!("  omega_d (closed form)  {w:.12}\n");
         }
         s += &format!("  period                 {}\n", opt(self.period, 12));
-        s += &format!("  reference              {} = {:.12}\n", self.omega_ref_kind, self.omega_ref);
+        s += &format!(
+            "  reference              {} = {:.12}\n",
+            self.omega_ref_kind, self.omega_ref
+        );
         s += &format!("  deviation              {} cents\n", opt(self.cents, 6));
-        s += &format!("  max rel energy error   {:.3e}\n", self.max_rel_energy_error);
+        s += &format!(
+            "  max rel energy error   {:.3e}\n",
+            self.max_rel_energy_error
+        );
         if let Some(e) = self.max_abs_error_vs_reference {
             s += &format!("  max |u - reference|    {e:.3e}\n");
         }
@@ -149,11 +166,18 @@ impl Summary {
 impl Trace {
     /// The conserved quantity `energy + dissipated` at every step.
     pub fn balance(&self) -> Vec<f64> {
-        self.energy.iter().zip(&self.dissipated).map(|(e, d)| e + d).collect()
+        self.energy
+            .iter()
+            .zip(&self.dissipated)
+            .map(|(e, d)| e + d)
+            .collect()
     }
 }
 
 /// Largest absolute difference between two equally long series.
 pub(crate) fn max_abs_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max)
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
 }

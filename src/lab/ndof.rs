@@ -3,7 +3,7 @@
 use super::{max_abs_difference, Duration, Summary, Trace};
 use crate::analysis::{energy::max_relative_drift, frequency};
 use crate::error::{check_finite, check_positive, ParamError};
-use crate::schemes::ndof::{build_method, build_system, HamiltonianSystem, SystemSpec};
+use crate::schemes::ndof::{build_method_for_system, build_system, HamiltonianSystem, SystemSpec};
 
 /// Step refinement of the Gauss-2 reference run.
 pub const REFERENCE_REFINEMENT: u64 = 16;
@@ -49,9 +49,16 @@ impl NdofExperiment {
         check_finite("amplitude", self.amplitude)?;
         check_finite("momentum", self.momentum)?;
         let system = build_system(&self.system)?;
-        let omega = self.system.lowest_linear_frequency();
+        let omega = lowest_linear_frequency(&self.system);
         let steps = self.duration.steps(self.h, omega)?;
-        let (mut trace, stats) = integrate(system.as_ref(), &self.method, self.h, &self.initial_state(system.as_ref()), steps, 1)?;
+        let (mut trace, stats) = integrate(
+            system.as_ref(),
+            &self.method,
+            self.h,
+            &self.initial_state(system.as_ref()),
+            steps,
+            1,
+        )?;
         let fine_h = self.h / REFERENCE_REFINEMENT as f64;
         let (reference, _) = integrate(
             system.as_ref(),
@@ -89,6 +96,19 @@ impl NdofExperiment {
     }
 }
 
+/// Lowest angular frequency of the linearised system (sets `Duration::Periods`):
+/// `2√k sin(π/(2(n+1)))` for chains with fixed ends, `ω0` for the pendulum, `√μ` for the
+/// circular Kepler orbit of radius 1.
+pub fn lowest_linear_frequency(system: &SystemSpec) -> f64 {
+    match *system {
+        SystemSpec::Fpu { n, k, .. } | SystemSpec::LinearChain { n, k } => {
+            2.0 * k.sqrt() * (std::f64::consts::PI / (2.0 * (n as f64 + 1.0))).sin()
+        }
+        SystemSpec::Pendulum { omega0 } => omega0,
+        SystemSpec::Kepler { mu } => mu.sqrt(),
+    }
+}
+
 fn integrate(
     system: &dyn HamiltonianSystem,
     method: &str,
@@ -98,7 +118,7 @@ fn integrate(
     stride: u64,
 ) -> Result<(Trace, crate::schemes::StepperStats), ParamError> {
     let n = system.degrees_of_freedom();
-    let mut stepper = build_method(method, n)?;
+    let mut stepper = build_method_for_system(method, system)?;
     let mut y = y0.to_vec();
     let kept = (steps / stride + 1) as usize;
     let mut tr = Trace {

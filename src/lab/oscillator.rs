@@ -40,9 +40,9 @@ impl OscillatorExperiment {
             | OscillatorSpec::Exact { omega0, .. }
             | OscillatorSpec::DuffingVerlet { omega0, .. }
             | OscillatorSpec::DuffingConservative { omega0, .. } => Some(omega0),
-            OscillatorSpec::Impact { mass, stiffness, .. } => {
-                (stiffness > 0.0 && mass > 0.0).then(|| (stiffness / mass).sqrt())
-            }
+            OscillatorSpec::Impact {
+                mass, stiffness, ..
+            } => (stiffness > 0.0 && mass > 0.0).then(|| (stiffness / mass).sqrt()),
         }
     }
 
@@ -50,7 +50,9 @@ impl OscillatorExperiment {
     pub fn system_name(&self) -> &'static str {
         match self.spec {
             OscillatorSpec::Theta { .. } | OscillatorSpec::Exact { .. } => "linear",
-            OscillatorSpec::DuffingVerlet { .. } | OscillatorSpec::DuffingConservative { .. } => "duffing",
+            OscillatorSpec::DuffingVerlet { .. } | OscillatorSpec::DuffingConservative { .. } => {
+                "duffing"
+            }
             OscillatorSpec::Impact { .. } => "impact",
         }
     }
@@ -88,11 +90,19 @@ impl OscillatorExperiment {
         let (u0, v0) = (self.u0, self.v0);
         match self.spec {
             OscillatorSpec::Theta { omega0, .. } => Ok((
-                Some(t.iter().map(|&t| analytic::damped_linear(omega0, 0.0, u0, v0, t).0).collect()),
+                Some(
+                    t.iter()
+                        .map(|&t| analytic::damped_linear(omega0, 0.0, u0, v0, t).0)
+                        .collect(),
+                ),
                 "exact solution".into(),
             )),
             OscillatorSpec::Exact { omega0, xi } => Ok((
-                Some(t.iter().map(|&t| analytic::damped_linear(omega0, xi, u0, v0, t).0).collect()),
+                Some(
+                    t.iter()
+                        .map(|&t| analytic::damped_linear(omega0, xi, u0, v0, t).0)
+                        .collect(),
+                ),
                 "exact solution".into(),
             )),
             OscillatorSpec::DuffingVerlet { omega0, gamma }
@@ -108,8 +118,17 @@ impl OscillatorExperiment {
             _ => {
                 let fine_h = self.h / REFERENCE_REFINEMENT as f64;
                 let mut fine = build_oscillator(&self.spec, fine_h)?;
-                let (trace, _) = record(fine.as_mut(), u0, v0, steps * REFERENCE_REFINEMENT, REFERENCE_REFINEMENT);
-                Ok((Some(trace.u), format!("same scheme at h/{REFERENCE_REFINEMENT}")))
+                let (trace, _) = record(
+                    fine.as_mut(),
+                    u0,
+                    v0,
+                    steps * REFERENCE_REFINEMENT,
+                    REFERENCE_REFINEMENT,
+                );
+                Ok((
+                    Some(trace.u),
+                    format!("same scheme at h/{REFERENCE_REFINEMENT}"),
+                ))
             }
         }
     }
@@ -118,13 +137,18 @@ impl OscillatorExperiment {
     fn reference_frequency(&self) -> Result<(f64, String), ParamError> {
         Ok(match self.spec {
             OscillatorSpec::Theta { omega0, .. } => (omega0, "omega0".into()),
-            OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => {
-                (omega0 * (1.0 - xi * xi).sqrt(), "damped natural frequency omega0*sqrt(1-xi^2)".into())
-            }
+            OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => (
+                omega0 * (1.0 - xi * xi).sqrt(),
+                "damped natural frequency omega0*sqrt(1-xi^2)".into(),
+            ),
             OscillatorSpec::Exact { omega0, .. } => (omega0, "omega0".into()),
             OscillatorSpec::DuffingVerlet { omega0, gamma }
             | OscillatorSpec::DuffingConservative { omega0, gamma, .. } => {
-                let exact = analytic::DuffingFree::new(omega0, gamma, duffing_amplitude(omega0, gamma, self.u0, self.v0))?;
+                let exact = analytic::DuffingFree::new(
+                    omega0,
+                    gamma,
+                    duffing_amplitude(omega0, gamma, self.u0, self.v0),
+                )?;
                 (
                     exact.angular_frequency(),
                     "exact nonlinear frequency 2*pi/T, T = 4K(m)/Omega".into(),
@@ -137,14 +161,27 @@ impl OscillatorExperiment {
         })
     }
 
-    fn summarise(&self, trace: &Trace, steps: u64, stats: StepperStats, max_err: Option<f64>) -> Result<Summary, ParamError> {
+    fn summarise(
+        &self,
+        trace: &Trace,
+        steps: u64,
+        stats: StepperStats,
+        max_err: Option<f64>,
+    ) -> Result<Summary, ParamError> {
         let measured = frequency::measure(&trace.u, self.h);
         let (omega_ref, omega_ref_kind) = self.reference_frequency()?;
         let closed = match self.spec {
-            OscillatorSpec::Theta { omega0, theta } => analytic::theta_frequency(theta, self.h, omega0),
+            OscillatorSpec::Theta { omega0, theta } => {
+                analytic::theta_frequency(theta, self.h, omega0)
+            }
             _ => None,
         };
-        let finite = trace.u.iter().chain(&trace.v).chain(&trace.energy).all(|x| x.is_finite());
+        let finite = trace
+            .u
+            .iter()
+            .chain(&trace.v)
+            .chain(&trace.energy)
+            .all(|x| x.is_finite());
         Ok(Summary {
             system: self.system_name().into(),
             scheme: self.spec.scheme_name().into(),
@@ -183,7 +220,13 @@ pub fn duffing_amplitude(omega0: f64, gamma: f64, u0: f64, v0: f64) -> f64 {
 }
 
 /// Runs `steps` steps from `(u0, v0)`, keeping every `stride`-th state (and the first).
-fn record(stepper: &mut dyn OscillatorStepper, u0: f64, v0: f64, steps: u64, stride: u64) -> (Trace, StepperStats) {
+fn record(
+    stepper: &mut dyn OscillatorStepper,
+    u0: f64,
+    v0: f64,
+    steps: u64,
+    stride: u64,
+) -> (Trace, StepperStats) {
     let kept = (steps / stride + 1) as usize;
     let mut tr = Trace {
         t: Vec::with_capacity(kept),

@@ -22,17 +22,28 @@ pub struct Written {
 }
 
 /// Writes the CSV, JSON and PNG files of a run into `dir`.
-pub fn write_report(dir: &Path, stem: &str, trace: &Trace, summary: &Summary) -> Result<Written, String> {
+pub fn write_report(
+    dir: &Path,
+    stem: &str,
+    trace: &Trace,
+    summary: &Summary,
+) -> Result<Written, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
     let mut written = Written::default();
     let csv = dir.join(format!("{stem}.csv"));
     write_csv(&csv, trace).map_err(|e| format!("writing {}: {e}", csv.display()))?;
     written.files.push(csv);
     let json = dir.join(format!("{stem}.json"));
-    std::fs::write(&json, serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n")
-        .map_err(|e| format!("writing {}: {e}", json.display()))?;
+    std::fs::write(
+        &json,
+        serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n",
+    )
+    .map_err(|e| format!("writing {}: {e}", json.display()))?;
     written.files.push(json);
-    let title = format!("{} / {} (h = {})", summary.system, summary.scheme, summary.h);
+    let title = format!(
+        "{} / {} (h = {})",
+        summary.system, summary.scheme, summary.h
+    );
     let figures = [
         ("waveform", waveform_panels(trace, summary)),
         ("energy", energy_panels(trace)),
@@ -52,7 +63,11 @@ fn write_csv(path: &Path, tr: &Trace) -> std::io::Result<()> {
     writeln!(w, "t,u,v,energy,dissipated,reference")?;
     for i in 0..tr.t.len() {
         let r = tr.reference.as_ref().map_or(f64::NAN, |r| r[i]);
-        writeln!(w, "{:e},{:e},{:e},{:e},{:e},{:e}", tr.t[i], tr.u[i], tr.v[i], tr.energy[i], tr.dissipated[i], r)?;
+        writeln!(
+            w,
+            "{:e},{:e},{:e},{:e},{:e},{:e}",
+            tr.t[i], tr.u[i], tr.v[i], tr.energy[i], tr.dissipated[i], r
+        )?;
     }
     w.flush()
 }
@@ -69,9 +84,17 @@ fn window(trace: &Trace, summary: &Summary) -> usize {
 
 fn slice_panel(title: &str, trace: &Trace, range: std::ops::Range<usize>) -> Panel {
     let t = trace.t[range.clone()].to_vec();
-    let mut p = Panel::new(title, "t", "u").push(Series::line("numerical", t.clone(), trace.u[range.clone()].to_vec()));
+    let mut p = Panel::new(title, "t", "u").push(Series::line(
+        "numerical",
+        t.clone(),
+        trace.u[range.clone()].to_vec(),
+    ));
     if let Some(r) = &trace.reference {
-        p = p.push(Series::line(trace.reference_label.clone(), t, r[range].to_vec()));
+        p = p.push(Series::line(
+            trace.reference_label.clone(),
+            t,
+            r[range].to_vec(),
+        ));
     }
     p
 }
@@ -91,12 +114,28 @@ fn energy_panels(trace: &Trace) -> Vec<Panel> {
     let scale = if e0 != 0.0 { e0.abs() } else { 1.0 };
     let rel: Vec<f64> = balance.iter().map(|e| (e - e0) / scale).collect();
     let damped = trace.dissipated.iter().any(|&d| d != 0.0);
-    let mut h = Panel::new("discrete energy", "t", "H").push(Series::line("H(t)", trace.t.clone(), trace.energy.clone()));
+    let mut h = Panel::new("discrete energy", "t", "H").push(Series::line(
+        "H(t)",
+        trace.t.clone(),
+        trace.energy.clone(),
+    ));
     if damped {
-        h = h.push(Series::line("H + dissipated", trace.t.clone(), balance.clone()));
+        h = h.push(Series::line(
+            "H + dissipated",
+            trace.t.clone(),
+            balance.clone(),
+        ));
     }
-    let label = if damped { "(H + D - H0)/H0" } else { "(H - H0)/H0" };
-    let r = Panel::new("relative energy error", "t", label).push(Series::line(label, trace.t.clone(), rel));
+    let label = if damped {
+        "(H + D - H0)/H0"
+    } else {
+        "(H - H0)/H0"
+    };
+    let r = Panel::new("relative energy error", "t", label).push(Series::line(
+        label,
+        trace.t.clone(),
+        rel,
+    ));
     vec![h, r]
 }
 

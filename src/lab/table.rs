@@ -51,7 +51,10 @@ pub fn format_table(h: f64, omega0: f64, rows: &[ThetaRow]) -> String {
         h * omega0,
         std::f64::consts::TAU / (h * omega0)
     );
-    s += &format!("{:>8} {:>16} {:>14} {:>8} {:>18} {:>14}\n", "theta", "limit h*omega0", "h_max", "stable", "omega_d", "cents");
+    s += &format!(
+        "{:>8} {:>16} {:>14} {:>8} {:>18} {:>14}\n",
+        "theta", "limit h*omega0", "h_max", "stable", "omega_d", "cents"
+    );
     let opt = |v: Option<f64>, p: usize| v.map_or("unbounded".to_string(), |x| format!("{x:.p$}"));
     for r in rows {
         s += &format!(
