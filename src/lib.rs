@@ -10,6 +10,7 @@
 //! - [`schemes`]: time steppers for one oscillator (θ-family, exact, Duffing, impact) and for
 //!   N-degree-of-freedom Hamiltonian systems (Störmer-Verlet, Runge-Kutta from Butcher tableaus,
 //!   Gauss methods);
+//! - [`models`]: physical models built on the schemes (modal von Kármán plate);
 //! - [`analysis`]: measurements on simulated signals (frequency, cents, energy drift) and the
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
@@ -21,6 +22,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod models;
 pub mod schemes;
 
 pub use error::ParamError;
