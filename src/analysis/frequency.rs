@@ -33,7 +33,7 @@ pub fn cents(omega: f64, omega_ref: f64) -> f64 {
 /// the mid-range `(max + min) / 2` otherwise. Returns `None` when fewer than two upward
 /// crossings are found (no oscillation, for example an over-damped decay).
 pub fn measure(samples: &[f64], h: f64) -> Option<MeasuredFrequency> {
-    if samples.len() < STENCIL + 2 || !(h > 0.0) {
+    if samples.len() < STENCIL + 2 || h.is_nan() || h <= 0.0 {
         return None;
     }
     let (min, max) = samples

@@ -206,12 +206,12 @@ mod tests {
         c.apply_force(&qa, &w, &mut f);
         let mut g = [0.0; 6];
         c.coupling_matrix(&qa, &mut g);
-        for l in 0..2 {
+        for (l, &got) in eta.iter().enumerate() {
             let want: f64 = (0..3)
                 .flat_map(|i| (0..3).map(move |j| (i, j)))
                 .map(|(i, j)| c.get(l, i, j) * qa[i] * qb[j])
                 .sum();
-            assert!((eta[l] - want).abs() < 1e-14, "{} vs {want}", eta[l]);
+            assert!((got - want).abs() < 1e-14, "{got} vs {want}");
         }
         for s in 0..3 {
             let mut want = 0.0;

@@ -146,7 +146,7 @@ pub(crate) fn cholesky_in_place(m: &mut [f64], n: usize) -> Result<(), NotPositi
         let (done, rest) = m.split_at_mut((j + 1) * n);
         let rowj = &mut done[j * n..];
         let d = rowj[j] - dot(&rowj[..j], &rowj[..j]);
-        if !(d > 0.0) || !d.is_finite() {
+        if d.is_nan() || d <= 0.0 || d.is_infinite() {
             return Err(NotPositiveDefinite);
         }
         let ljj = d.sqrt();

@@ -342,11 +342,10 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         out: &mut [S],
     ) -> Result<usize, Diverged> {
         let np = self.pickups.len();
-        let frames = if np == 0 {
-            force.len()
-        } else {
-            force.len().min(out.len() / np)
-        };
+        let frames = out
+            .len()
+            .checked_div(np)
+            .map_or(force.len(), |room| force.len().min(room));
         for (n, &f) in force.iter().take(frames).enumerate() {
             if let Err(e) = self.step(f) {
                 out[n * np..].fill(S::from_f64(0.0));
