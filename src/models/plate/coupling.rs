@@ -21,6 +21,7 @@
 //! Threads: a coupling is built once on a worker thread and then shared read-only (`Arc`) with
 //! the audio thread, which calls the kernels; kernels never allocate and run in bounded time.
 
+use super::linalg::dot;
 use crate::error::ParamError;
 
 /// The coupling tensor `H^l_{i,j}` (symmetric in `i, j`) of a modal von Kármán plate, as the
@@ -178,11 +179,6 @@ impl ModalCoupling for DenseCoupling {
             }
         }
     }
-}
-
-/// `Σ a_i b_i` over the shorter length.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[cfg(test)]

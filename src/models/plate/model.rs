@@ -231,8 +231,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         Ok(())
     }
 
-    /// Turns the per-step energy bookkeeping on (default) or off. Off saves, for Störmer-Verlet,
-    /// one coupling contraction per step; [`Self::energy`] is then stale. Audio thread.
+    /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;
+    /// [`Self::energy`] is then stale). Audio thread.
     pub fn set_energy_tracking(&mut self, on: bool) {
         self.track_energy = on;
     }
@@ -250,24 +250,32 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         let fscale = h2 * force / self.rho_h;
         let nf = self.q.len();
         let np = self.b_half.len();
+        // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} q_k(n).
+        self.coupling.coupling_matrix(&self.q, &mut self.g);
         match self.solver.as_mut() {
             None => {
-                // Störmer-Verlet: a q⁺ = b q - d q⁻ + h² (p + f(q)), f from η(q(n)) only.
-                self.nonlinear_force(1.0);
+                // Störmer-Verlet: a q⁺ = b q - d q⁻ + h² (p + f(q)), f from η(q(n)) only:
+                // h² f_s = Σ_l G_{s,l} (-2 h² D_l) Ĥ(q, q)_l with Ĥ(q, q) = Gᵀ q.
+                self.w.fill(0.0);
+                for (grow, &qs) in self.g.chunks_exact(np.max(1)).zip(&self.q) {
+                    for (wl, &gv) in self.w.iter_mut().zip(grow) {
+                        *wl += gv * qs;
+                    }
+                }
+                for (wl, &d) in self.w.iter_mut().zip(&self.dh2) {
+                    *wl *= -2.0 * d;
+                }
                 for s in 0..nf {
+                    let grow = &self.g[s * np..(s + 1) * np];
+                    let fs: f64 = grow.iter().zip(&self.w).map(|(g, w)| g * w).sum();
                     let rs = self.b[s] * self.q[s] - self.d[s] * self.q_prev[s]
                         + fscale * self.force_weights[s]
-                        + self.f[s];
+                        + fs;
                     self.q_next[s] = rs * self.inv_a[s];
-                }
-                if self.track_energy {
-                    self.coupling
-                        .contract_eta(&self.q_next, &self.q, &mut self.b_next);
                 }
             }
             Some(solver) => {
                 // Conservative: (A + h² G D Gᵀ) q⁺ = b q - d q⁻ + h² p - h² G D Ĥ(q, q⁻).
-                self.coupling.coupling_matrix(&self.q, &mut self.g);
                 for s in 0..nf {
                     let grow = &self.g[s * np..(s + 1) * np];
                     let nl: f64 = grow
@@ -293,13 +301,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 {
                     return Err(self.fail());
                 }
-                // Ĥ(q⁺, q) = Gᵀ q⁺ (H symmetric): the next step's Ĥ(q, q⁻).
-                self.b_next.fill(0.0);
-                for (grow, &x) in self.g.chunks_exact(np.max(1)).zip(&self.q_next) {
-                    for (bn, &gv) in self.b_next.iter_mut().zip(grow) {
-                        *bn += gv * x;
-                    }
-                }
+            }
+        }
+        // Ĥ(q⁺, q) = Gᵀ q⁺ (H symmetric): u(n+1), and the next step's Ĥ(q, q⁻).
+        self.b_next.fill(0.0);
+        for (grow, &x) in self.g.chunks_exact(np.max(1)).zip(&self.q_next) {
+            for (bn, &gv) in self.b_next.iter_mut().zip(grow) {
+                *bn += gv * x;
             }
         }
         if !self.q_next.iter().all(|x| x.is_finite()) || !force.is_finite() {
@@ -416,7 +424,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     }
 
     /// `self.f = scale · h² Σ_l G_{s,l}(q) (-2 D_l) Ĥ(q,q)_l`: the Störmer-Verlet nonlinear
-    /// acceleration times `h² · scale` at the current `q`.
+    /// acceleration times `h² · scale` at the current `q`, through the `contract_eta` and
+    /// `apply_force` kernels (used by [`Self::set_state`]; `step` goes through `G` instead).
     fn nonlinear_force(&mut self, scale: f64) {
         if self.w.is_empty() {
             self.f.fill(0.0);
