@@ -96,7 +96,7 @@ pub fn impulse_force(impulse: f64, fs: f64) -> f64 {
     impulse * fs
 }
 
-/// What a [`Pickup`] reads.
+/// What a [`Pickup`] reads (plain `Copy` data; set at build time, read on the audio thread).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PickupKind {
     /// Displacement `w(x, n+1) = Σ_s Φ_s q_s(n+1)` (m with normalised modes) after the step

@@ -36,7 +36,7 @@ impl fmt::Display for Diverged {
 
 impl std::error::Error for Diverged {}
 
-/// Sample types [`PlateModel::process`] can write.
+/// Sample types [`PlateModel::process`] can write (conversion runs on the audio thread).
 pub trait OutputSample: Copy {
     /// Converts one output value (rounding for `f32`).
     fn from_f64(x: f64) -> Self;

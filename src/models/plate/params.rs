@@ -7,6 +7,8 @@
 use crate::error::{check_non_negative, check_positive, ParamError};
 
 /// Time scheme of the plate model (see the module documentation of [`super`]).
+///
+/// Plain `Copy` data, chosen on the control/worker thread at build time.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PlateScheme {
     /// Conservative linearly implicit scheme with the θ = 1 linear part
@@ -34,7 +36,8 @@ impl PlateScheme {
     }
 }
 
-/// How the conservative schemes solve their linear system each step.
+/// How the conservative schemes solve their linear system each step (chosen at build time,
+/// used on the audio thread). Plain `Copy` data.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LinearSolve {
     /// Woodbury when `N_Ψ < N_Φ`, direct otherwise.
