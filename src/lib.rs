@@ -10,10 +10,12 @@
 //! - [`schemes`]: time steppers for one oscillator (θ-family, exact, Duffing, impact) and for
 //!   N-degree-of-freedom Hamiltonian systems (Störmer-Verlet, Runge-Kutta from Butcher tableaus,
 //!   Gauss methods);
+//! - [`models`]: physical models built on the schemes (modal von Kármán plate);
 //! - [`analysis`]: measurements on simulated signals (frequency, cents, energy drift) and the
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
 //! - [`modal`]: dimensionless modal bases of plates (Φ, Ψ) and their coupling tensors;
+//! - [`models`]: the instrument models (the modal von Kármán plate);
 //! - [`scene`], [`render`]: scene files and the offline render loop (WAV, resampling);
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
 //! - [`error`]: the parameter error type every constructor returns.
@@ -25,6 +27,7 @@ pub mod analysis;
 pub mod error;
 pub mod lab;
 pub mod modal;
+pub mod models;
 pub mod plot;
 pub mod render;
 pub mod scene;

@@ -1,0 +1,3 @@
+//! Physical models built on the schemes: [`plate`] (modal von Kármán plate, gongs).
+
+pub mod plate;
