@@ -11,6 +11,9 @@ use std::f64::consts::PI;
 /// Number of samples used for the local interpolant around each crossing.
 const STENCIL: usize = 8;
 
+/// Below this many samples per period, [`measure`] uses [`linear_prediction`].
+pub const MIN_SAMPLES_PER_PERIOD: f64 = 12.0;
+
 /// Result of a crossing-based frequency measurement.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MeasuredFrequency {
@@ -29,10 +32,63 @@ pub fn cents(omega: f64, omega_ref: f64) -> f64 {
 
 /// Measures the oscillation period of `samples` (uniform step `h`).
 ///
-/// The crossing level is 0 when the signal takes both signs (exact for damped sinusoids), and
-/// the mid-range `(max + min) / 2` otherwise. Returns `None` when fewer than two upward
-/// crossings are found (no oscillation, for example an over-damped decay).
+/// Well-resolved signals use upward crossings: the crossing level is 0 when the signal takes
+/// both signs (exact for damped sinusoids), and the mid-range `(max + min) / 2` otherwise.
+/// Signals with fewer than [`MIN_SAMPLES_PER_PERIOD`] samples a period (or too short to have
+/// two crossings) use [`linear_prediction`]. Returns `None` when neither finds an oscillation
+/// (for example an over-damped decay).
 pub fn measure(samples: &[f64], h: f64) -> Option<MeasuredFrequency> {
+    let crossings = measure_crossings(samples, h);
+    match crossings {
+        Some(m) if m.period / h >= MIN_SAMPLES_PER_PERIOD => Some(m),
+        _ => linear_prediction(samples, h)
+            .map(|(omega, _)| MeasuredFrequency {
+                period: 2.0 * PI / omega,
+                omega,
+                periods: crossings.map_or(0, |m| m.periods),
+            })
+            .or(crossings),
+    }
+}
+
+/// The angular frequency samples at step `h` show for a sinusoid at `omega`: `omega` folded
+/// into `[0, π/h]` (aliasing).
+pub fn fold_to_band(omega: f64, h: f64) -> f64 {
+    let x = (omega * h).rem_euclid(2.0 * PI);
+    (if x > PI { 2.0 * PI - x } else { x }) / h
+}
+
+/// Least-squares fit of `u_{n+1} = a1 u_n - a2 u_{n-1}` over the whole signal; returns the
+/// angular frequency `ω = arccos(a1 / (2√a2)) / h` (in `(0, π/h)`, so aliased frequencies come
+/// out folded) and the decay rate `σ = -ln(a2) / (2h)`, or `None` when the fit is not an
+/// oscillation (`a1² ≥ 4 a2` or `a2 ≤ 0`).
+pub fn linear_prediction(samples: &[f64], h: f64) -> Option<(f64, f64)> {
+    if samples.len() < 4 || h.is_nan() || h <= 0.0 {
+        return None;
+    }
+    let (mut s11, mut s12, mut s22, mut b1, mut b2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for w in samples.windows(3) {
+        let (um, u, up) = (w[0], w[1], w[2]);
+        s11 += u * u;
+        s12 -= u * um;
+        s22 += um * um;
+        b1 += up * u;
+        b2 -= up * um;
+    }
+    let det = s11 * s22 - s12 * s12;
+    if !(det.is_finite() && det > 0.0) {
+        return None;
+    }
+    let a1 = (b1 * s22 - s12 * b2) / det;
+    let a2 = (s11 * b2 - s12 * b1) / det;
+    if !(a2 > 0.0 && a1 * a1 < 4.0 * a2) {
+        return None;
+    }
+    let c = a1 / (2.0 * a2.sqrt());
+    Some((c.acos() / h, -a2.ln() / (2.0 * h)))
+}
+
+fn measure_crossings(samples: &[f64], h: f64) -> Option<MeasuredFrequency> {
     if samples.len() < STENCIL + 2 || h.is_nan() || h <= 0.0 {
         return None;
     }
@@ -150,6 +206,30 @@ mod tests {
         let m = measure(&offset, h).unwrap();
         assert!((m.omega / 3.0 - 1.0).abs() < 1e-10, "{m:?}");
         assert!(measure(&vec![1.0; 100], h).is_none());
+    }
+
+    /// Three samples a period, damped: linear prediction recovers ω and σ to round-off.
+    #[test]
+    fn under_resolved_damped_sinusoid() {
+        let (omega, sigma, h) = (1.0, 0.1, 2.0);
+        let x: Vec<f64> = (0..31)
+            .map(|n| (-sigma * n as f64 * h).exp() * (omega * n as f64 * h + 0.2).cos())
+            .collect();
+        let m = measure(&x, h).unwrap();
+        assert!((m.omega - omega).abs() < 1e-12, "{m:?}");
+        let (_, s) = linear_prediction(&x, h).unwrap();
+        assert!((s - sigma).abs() < 1e-12, "{s}");
+        // An over-damped decay is not an oscillation.
+        let decay: Vec<f64> = (0..40)
+            .map(|n| (-0.3 * n as f64).exp() + (-0.05 * n as f64).exp())
+            .collect();
+        assert!(measure(&decay, 1.0).is_none());
+    }
+
+    #[test]
+    fn folding() {
+        assert!((fold_to_band(1.0, 10.0) - (4.0 * PI - 10.0) / 10.0).abs() < 1e-15);
+        assert!((fold_to_band(1.0, 0.1) - 1.0).abs() < 1e-15);
     }
 
     #[test]

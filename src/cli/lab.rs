@@ -84,6 +84,7 @@ impl DurationArgs {
 
 /// Arguments of `noether lab run`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct RunArgs {
     /// Scheme to run.
     #[arg(long, value_enum)]
@@ -151,6 +152,7 @@ pub enum SystemArg {
 
 /// Arguments of `noether lab ndof`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct NdofArgs {
     /// Test system.
     #[arg(long, value_enum)]
@@ -189,6 +191,7 @@ pub struct NdofArgs {
 
 /// Arguments of `noether lab table`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct TableArgs {
     /// Time step h, > 0.
     #[arg(long, default_value_t = 0.125)]

@@ -16,6 +16,7 @@ pub enum PlateArg {
 
 /// Arguments of `noether modes`.
 #[derive(Debug, Args)]
+#[command(allow_negative_numbers = true)]
 pub struct ModesArgs {
     /// Plate geometry and boundary condition.
     #[arg(long, value_enum)]

@@ -92,7 +92,17 @@ pub fn all() -> Vec<Figure> {
         Figure { name: "duffing-verlet", caption: "1.3: Stormer-Verlet on Duffing (omega0 = 1, gamma = 5, h = 0.0628): energy not conserved", experiment: osc(OscillatorSpec::DuffingVerlet { omega0: 1.0, gamma: 5.0 }, 0.0628, 1.0, Duration::Periods(100.0)) },
         Figure { name: "duffing-explicit", caption: "1.3: conservative Duffing scheme, theta1 = 0.8, theta2 = 1 (explicit), h = 0.0628", experiment: osc(duffing(0.8, 1.0), 0.0628, 1.0, Duration::Periods(100.0)) },
         Figure { name: "duffing-implicit", caption: "1.3: conservative Duffing scheme, theta1 = 1, theta2 = 0 (cubic solved each step), h = 0.0628", experiment: osc(duffing(1.0, 0.0), 0.0628, 1.0, Duration::Periods(100.0)) },
-        Figure { name: "impact", caption: "1.4: impact oscillator, K = 1e13, alpha = 1.5, wall at d = 0.5, theta = 0.5", experiment: osc(OscillatorSpec::Impact { mass: 1.0, stiffness: 1.0, contact_stiffness: 1e13, alpha: 1.5, gap: 0.5, theta: 0.5 }, 1e-3, 1.0, Duration::Periods(20.0)) },
+        Figure {
+            name: "impact",
+            caption: "1.4: impact oscillator, K = 1e13, alpha = 1.5, wall at d = 0.5, u0 = 0, v0 = 1 (hits the wall every period), theta = 0.5",
+            experiment: Experiment::Oscillator(OscillatorExperiment {
+                spec: OscillatorSpec::Impact { mass: 1.0, stiffness: 1.0, contact_stiffness: 1e13, alpha: 1.5, gap: 0.5, theta: 0.5 },
+                h: 1e-3,
+                u0: 0.0,
+                v0: 1.0,
+                duration: Duration::Periods(20.0),
+            }),
+        },
     ];
     for method in ["stormer-verlet", "rk4", "gauss2"] {
         v.push(Figure {

@@ -137,10 +137,15 @@ impl OscillatorExperiment {
     fn reference_frequency(&self) -> Result<(f64, String), ParamError> {
         Ok(match self.spec {
             OscillatorSpec::Theta { omega0, .. } => (omega0, "omega0".into()),
-            OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => (
-                omega0 * (1.0 - xi * xi).sqrt(),
-                "damped natural frequency omega0*sqrt(1-xi^2)".into(),
-            ),
+            OscillatorSpec::Exact { omega0, xi } if xi < 1.0 => {
+                let wd = omega0 * (1.0 - xi * xi).sqrt();
+                let seen = frequency::fold_to_band(wd, self.h);
+                if (seen - wd).abs() <= 1e-12 * wd {
+                    (wd, "damped natural frequency omega0*sqrt(1-xi^2)".into())
+                } else {
+                    (seen, format!("omega0*sqrt(1-xi^2) = {wd} as the samples show it (aliased into [0, pi/h])"))
+                }
+            }
             OscillatorSpec::Exact { omega0, .. } => (omega0, "omega0".into()),
             OscillatorSpec::DuffingVerlet { omega0, gamma }
             | OscillatorSpec::DuffingConservative { omega0, gamma, .. } => {
@@ -154,10 +159,24 @@ impl OscillatorExperiment {
                     "exact nonlinear frequency 2*pi/T, T = 4K(m)/Omega".into(),
                 )
             }
-            OscillatorSpec::Impact { .. } => (
-                self.linear_omega0().unwrap_or(f64::NAN),
-                "omega0 of the linear spring (contact raises the frequency)".into(),
-            ),
+            OscillatorSpec::Impact { gap, .. } => {
+                let w0 = self.linear_omega0().unwrap_or(f64::NAN);
+                let amplitude = (self.u0 * self.u0 + (self.v0 / w0).powi(2)).sqrt();
+                if gap >= 0.0 && amplitude > gap && self.u0 <= gap {
+                    // Rigid-wall limit (K -> inf): the free harmonic arc from the wall back to
+                    // the wall lasts (2π - 2 acos(d/A))/ω0 and the impact is instantaneous.
+                    let period = (2.0 * std::f64::consts::PI - 2.0 * (gap / amplitude).acos()) / w0;
+                    (
+                        std::f64::consts::TAU / period,
+                        "rigid-wall limit 2*pi/T, T = (2*pi - 2*acos(d/A))/omega0".into(),
+                    )
+                } else {
+                    (
+                        w0,
+                        "omega0 of the linear spring (the wall is out of reach)".into(),
+                    )
+                }
+            }
         })
     }
 
@@ -174,6 +193,7 @@ impl OscillatorExperiment {
             OscillatorSpec::Theta { omega0, theta } => {
                 analytic::theta_frequency(theta, self.h, omega0)
             }
+            OscillatorSpec::Exact { xi, .. } if xi < 1.0 => Some(omega_ref),
             _ => None,
         };
         let finite = trace

@@ -293,14 +293,17 @@ fn draw_panel(
         .y_desc(axis_label(&panel.y_label, panel.y_scale))
         .label_style((FONT, 14).into_font())
         .axis_desc_style((FONT, 15).into_font())
-        .y_label_formatter(&|v| format_tick(*v))
-        .x_label_formatter(&|v| format_tick(*v))
+        .y_label_formatter(&|v| format_tick(*v, y1 - y0))
+        .x_label_formatter(&|v| format_tick(*v, x1 - x0))
         .light_line_style(RGBColor(235, 235, 235))
         .draw()
         .map_err(err)?;
     for (k, (s, pts)) in panel.series.iter().zip(data).enumerate() {
         let color = PALETTE[k % PALETTE.len()];
-        let style = ShapeStyle::from(&color).stroke_width(2);
+        // Wide strokes of dense, nearly vertical envelope segments render as spikes past the
+        // plot area in plotters' bitmap backend: dense series are drawn one pixel wide.
+        let width = if pts.len() > 1000 { 1 } else { 2 };
+        let style = ShapeStyle::from(&color).stroke_width(width);
         let legend_style = style;
         match s.mark {
             Mark::Line => {
@@ -339,17 +342,34 @@ fn draw_panel(
     Ok(())
 }
 
-/// Compact tick label: plain for moderate magnitudes, scientific otherwise.
-fn format_tick(v: f64) -> String {
+/// Tick label for value `v` on an axis spanning `span`: values within `1e-9 span` of zero
+/// print as 0; enough significant digits are kept to tell neighbouring ticks apart (about a
+/// hundredth of the span); scientific notation outside `[1e-3, 1e5)`.
+fn format_tick(v: f64, span: f64) -> String {
     let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&a) {
-        let s = format!("{v:.4}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        s.to_string()
+    if a == 0.0 || (span > 0.0 && a < 1e-9 * span) {
+        return "0".into();
+    }
+    // Digits after the leading one needed to resolve span/100 at magnitude |v|.
+    let resolution = if span > 0.0 { span / 100.0 } else { a * 1e-3 };
+    let digits = ((a / resolution).log10().ceil().max(1.0) as usize).min(12);
+    if (1e-3..1e5).contains(&a) {
+        let decimals = digits
+            .saturating_sub(a.log10().floor() as usize + 1)
+            .min(12);
+        let decimals = if a < 1.0 {
+            (-(resolution.log10().floor())).max(0.0) as usize
+        } else {
+            decimals
+        };
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
     } else {
-        format!("{v:.2e}")
+        format!("{v:.prec$e}", prec = digits.saturating_sub(1).min(10))
     }
 }
 
@@ -366,6 +386,18 @@ mod tests {
         assert!(e.len() <= MAX_POINTS + 2);
         let max = e.iter().map(|p| p.1).fold(f64::MIN, f64::max);
         assert!(max > 0.999, "envelope lost the peaks: {max}");
+    }
+
+    #[test]
+    fn tick_labels_resolve_their_axis() {
+        assert_eq!(format_tick(-2.22e-16, 2.0), "0");
+        assert_eq!(format_tick(0.25, 2.0), "0.25");
+        assert_eq!(format_tick(12.0, 40.0), "12");
+        // Large values with a tiny span keep enough digits to differ.
+        let a = format_tick(7.07000001e11, 2e4);
+        let b = format_tick(7.07000003e11, 2e4);
+        assert_ne!(a, b, "{a} vs {b}");
+        assert_eq!(format_tick(1.5e-12, 3e-12), "1.5e-12");
     }
 
     #[test]

@@ -1,0 +1,214 @@
+//! The `noether lab` command line end to end: JSON summaries agree with closed forms, files are
+//! written, bad arguments are refused with a message naming the argument and its range.
+
+use std::process::Command;
+
+fn noether(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_noether"))
+        .args(args)
+        .output()
+        .expect("run noether");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let (ok, stdout, stderr) = noether(args);
+    assert!(ok, "{args:?} failed: {stderr}");
+    serde_json::from_str(stdout.trim()).unwrap_or_else(|e| panic!("{e}: {stdout}"))
+}
+
+/// θ = 0.8 at h = 0.125: the measured frequency equals the closed form
+/// `ω_d = arccos((1 - θh²ω0²/2)/(1 + (1-θ)h²ω0²/2))/h` to 1e-9 (crossing measurement over 200
+/// periods is good to ~1e-12), and the energy is conserved to round-off (1e-12).
+#[test]
+fn theta_run_json_matches_the_closed_form() {
+    let v = json(&[
+        "lab",
+        "run",
+        "--scheme",
+        "theta",
+        "--theta",
+        "0.8",
+        "--h",
+        "0.125",
+        "--periods",
+        "200",
+        "--json",
+        "--no-files",
+    ]);
+    let (h, w0, theta): (f64, f64, f64) = (0.125, 1.0, 0.8);
+    let x = h * h * w0 * w0;
+    let closed = ((1.0 - theta * x / 2.0) / (1.0 + (1.0 - theta) * x / 2.0)).acos() / h;
+    let measured = v["omega_d"].as_f64().unwrap();
+    assert!(
+        (measured / closed - 1.0).abs() < 1e-9,
+        "{measured} vs {closed}"
+    );
+    let cents = v["cents"].as_f64().unwrap();
+    assert!((cents - 1200.0 * (closed / w0).log2()).abs() < 1e-6);
+    assert!(v["max_rel_energy_error"].as_f64().unwrap() < 1e-12);
+    assert_eq!(v["steps"].as_u64().unwrap(), 10053);
+    assert!((v["period"].as_f64().unwrap() - std::f64::consts::TAU / closed).abs() < 1e-8);
+}
+
+/// Duffing: cents are measured against the exact nonlinear period 4K(m)/Ω; the conservative
+/// explicit scheme's error at h = 0.0628 is a few cents (O(h²)), energy to round-off.
+#[test]
+fn duffing_cents_are_against_the_exact_nonlinear_frequency() {
+    let v = json(&[
+        "lab",
+        "run",
+        "--scheme",
+        "duffing-conservative",
+        "--h",
+        "0.0628",
+        "--periods",
+        "100",
+        "--json",
+        "--no-files",
+    ]);
+    assert!(v["omega_ref_kind"]
+        .as_str()
+        .unwrap()
+        .contains("exact nonlinear"));
+    let cents = v["cents"].as_f64().unwrap();
+    assert!(cents.abs() < 20.0 && cents.abs() > 0.1, "{cents}");
+    assert!(v["max_rel_energy_error"].as_f64().unwrap() < 1e-12);
+}
+
+#[test]
+fn lab_writes_csv_json_and_plots() {
+    let dir = std::env::temp_dir().join(format!("noether-cli-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let (ok, _, err) = noether(&["lab", "figure", "theta0-50", "--out", d]);
+    assert!(ok, "{err}");
+    for f in [
+        "theta0-50.csv",
+        "theta0-50.json",
+        "theta0-50-waveform.png",
+        "theta0-50-energy.png",
+        "theta0-50-phase.png",
+    ] {
+        let len = std::fs::metadata(dir.join(f)).map(|m| m.len()).unwrap_or(0);
+        assert!(len > 100, "{f}: {len} bytes");
+    }
+    let csv = std::fs::read_to_string(dir.join("theta0-50.csv")).unwrap();
+    assert!(csv.starts_with("t,u,v,energy,dissipated,reference\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn table_lists_limits_and_frequencies() {
+    let (ok, out, err) = noether(&[
+        "lab", "table", "--h", "0.5", "--thetas", "0,0.5,1", "--json",
+    ]);
+    assert!(ok, "{err}");
+    let rows: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(rows.as_array().unwrap().len(), 3);
+    assert!(rows[0]["h_omega0_limit"].is_null());
+    assert!((rows[2]["h_omega0_limit"].as_f64().unwrap() - 2.0).abs() < 1e-15);
+}
+
+#[test]
+fn bad_arguments_name_the_field_and_range() {
+    let cases: &[(&[&str], &[&str])] = &[
+        (
+            &[
+                "lab",
+                "run",
+                "--scheme",
+                "theta",
+                "--theta",
+                "1.5",
+                "--no-files",
+            ],
+            &["theta", "1.5", "[0, 1]"],
+        ),
+        (
+            &["lab", "run", "--scheme", "theta", "--h", "0", "--no-files"],
+            &["h", "0"],
+        ),
+        (
+            &["lab", "run", "--scheme", "theta", "--h", "abc"],
+            &["--h", "abc"],
+        ),
+        (
+            &[
+                "lab",
+                "run",
+                "--scheme",
+                "exact",
+                "--xi",
+                "-1",
+                "--no-files",
+            ],
+            &["xi", "-1"],
+        ),
+        (
+            &[
+                "lab",
+                "run",
+                "--scheme",
+                "impact",
+                "--alpha",
+                "0.2",
+                "--no-files",
+            ],
+            &["alpha", "0.2"],
+        ),
+        (
+            &[
+                "lab",
+                "run",
+                "--scheme",
+                "theta",
+                "--periods",
+                "1e12",
+                "--no-files",
+            ],
+            &["periods"],
+        ),
+        (&["lab", "run", "--scheme", "warp"], &["warp"]),
+        (
+            &[
+                "lab",
+                "ndof",
+                "--system",
+                "fpu",
+                "--method",
+                "rk5",
+                "--no-files",
+            ],
+            &["method", "rk5", "rk4"],
+        ),
+        (&["lab", "figure", "nope"], &["nope", "theta1-150"]),
+        (&["lab", "table", "--thetas", "2"], &["theta", "2"]),
+    ];
+    for (args, fragments) in cases {
+        let (ok, _, err) = noether(args);
+        assert!(!ok, "{args:?} succeeded");
+        for f in *fragments {
+            assert!(err.contains(f), "{args:?}: `{err}` lacks `{f}`");
+        }
+    }
+}
+
+#[test]
+fn every_subcommand_has_help() {
+    for args in [
+        &["--help"][..],
+        &["lab", "--help"],
+        &["lab", "run", "--help"],
+        &["lab", "ndof", "--help"],
+        &["lab", "table", "--help"],
+        &["lab", "figure", "--help"],
+        &["modes", "--help"],
+    ] {
+        let (ok, out, _) = noether(args);
+        assert!(ok && out.contains("Usage"), "{args:?}");
+    }
+}
