@@ -3,6 +3,7 @@
 
 mod lab;
 mod modes;
+mod render;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -11,7 +12,7 @@ use std::process::ExitCode;
 #[derive(Debug, Parser)]
 #[command(name = "noether", version, about, long_about = None)]
 pub struct Cli {
-    /// What to do (default: run every lecture illustration of the integrator lab into `out/lab`).
+    /// What to do (default: render assets/scenes/gong.toml with its plots into `out/`).
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -21,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// The integrator lab: the lecture's experiments on one oscillator and on N-DOF systems.
     Lab(lab::LabArgs),
+    /// Render a scene file offline to WAV, a JSON report and (with --plot) PNG figures.
+    Render(render::RenderArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
 }
@@ -31,7 +34,8 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
-        None => lab::run_all_figures(std::path::Path::new("out/lab")),
+        Some(Command::Render(args)) => render::run(args),
+        None => render::run_default(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

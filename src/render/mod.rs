@@ -2,6 +2,8 @@
 //! sample-rate conversion.
 
 pub mod offline;
+pub mod report;
 pub mod resample;
+pub mod scene;
 pub mod source;
 pub mod wav;

@@ -88,6 +88,8 @@ pub mod excitation;
 mod linalg;
 pub mod model;
 pub mod params;
+mod sparse;
+pub mod voice;
 
 pub use coupling::{DenseCoupling, ModalCoupling};
 pub use energy::PlateEnergy;

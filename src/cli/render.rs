@@ -1,0 +1,129 @@
+//! `noether render SCENE`: offline render of a scene file to WAV, JSON report and plots.
+
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use noether::render::report::write_plots;
+use noether::render::scene::render_scene;
+use noether::render::wav::{write_wav, WavFormat};
+use noether::scene::Scene;
+use std::path::{Path, PathBuf};
+
+/// The scene `noether` renders when run without arguments.
+pub const DEFAULT_SCENE: &str = "assets/scenes/gong.toml";
+
+/// Arguments of `noether render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML), e.g. assets/scenes/gong.toml.
+    pub scene: PathBuf,
+    /// Output WAV (32-bit float) [default: out/<scene>.wav].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// JSON report path [default: beside the WAV, <scene>.json].
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Folder for the PNG figures (energy curves, waveform, spectrogram).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Override a scene field by its dotted path, e.g. --set plate.excitation.peak_force=80
+    /// (repeatable).
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    pub set: Vec<String>,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Runs `noether render`.
+pub fn run(a: RenderArgs) -> Result<(), String> {
+    let scene = Scene::load(&a.scene, &a.set).map_err(|e| e.to_string())?;
+    let wav = a
+        .output
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(format!("{}.wav", scene.name)));
+    let report_path = a
+        .report
+        .clone()
+        .unwrap_or_else(|| wav.with_extension("json"));
+    if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent)
+            .map_err(|e| format!("creating {}: {e}", parent.display()))?;
+    }
+    eprintln!(
+        "rendering {} ({} s at {} Hz output)",
+        scene.name, scene.output.seconds, scene.output.sample_rate
+    );
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(1000)
+    };
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
+            .map_err(|e| e.to_string())?,
+    );
+    let (rendered, report) = render_scene(&scene, |f| bar.set_position((f * 1000.0) as u64))?;
+    bar.finish_and_clear();
+    write_wav(
+        &wav,
+        &rendered.out,
+        scene.output.sample_rate,
+        WavFormat::Float32,
+    )?;
+    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    std::fs::write(&report_path, json + "\n")
+        .map_err(|e| format!("writing {}: {e}", report_path.display()))?;
+    println!(
+        "{}: {} s, scheme {}, N_phi = {}, N_psi = {}, sim {} Hz -> {} Hz",
+        report.scene,
+        report.seconds,
+        report.scheme,
+        report.n_phi,
+        report.n_psi,
+        report.sim_rate,
+        report.sample_rate
+    );
+    println!(
+        "  energy: max {:.4e} J, drift {:.3e}, balance error {:.3e} (relative to max); nan {}",
+        report.energy.max,
+        report.energy.max_rel_drift,
+        report.energy.max_balance_error,
+        report.nan_count
+    );
+    println!(
+        "  peak {:.4e}, wall {:.2} s, real-time factor {:.3}",
+        report.peak, report.wall_seconds, report.realtime_factor
+    );
+    println!("  wrote {} and {}", wav.display(), report_path.display());
+    if let Some(dir) = &a.plot {
+        for p in write_plots(
+            dir,
+            &scene.name,
+            &rendered,
+            report.sim_rate,
+            scene.output.sample_rate,
+            4.0 * f_max,
+        )? {
+            println!("  wrote {}", p.display());
+        }
+    }
+    if report.nan_count > 0 {
+        return Err(format!(
+            "{} non-finite samples: the simulation diverged (see the report)",
+            report.nan_count
+        ));
+    }
+    Ok(())
+}
+
+/// The main job: render the default gong scene with its plots into `out/`.
+pub fn run_default() -> Result<(), String> {
+    run(RenderArgs {
+        scene: PathBuf::from(DEFAULT_SCENE),
+        output: None,
+        report: None,
+        plot: Some(PathBuf::from("out")),
+        set: Vec::new(),
+        quiet: false,
+    })
+}

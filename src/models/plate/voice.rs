@@ -1,0 +1,269 @@
+//! A plate built from a scene's `[plate]` table: modal data (cached), physical scaling, losses,
+//! excitation and pickups, driven as a [`RenderSource`].
+//!
+//! Scaling (modes normalised to `∫_S Φ² dS = ∫_S Ψ² dS = 1` on the plate of unit size `a = 1`,
+//! `D = ρh = 1`): on a plate of size `a`, `ω_s = λ_s² √(D/ρh)/a²`, `ζ_l⁴ → ζ_l⁴/a⁴`, mode values
+//! `Φ_s(x) → Φ_s(x/a)/a` and the coupling tensor `H → H/a⁵` (passed to the model as
+//! `coupling_scale = a⁻⁵`). Size, thickness and material therefore change only these scalars:
+//! the dimensionless basis and tensor are reused as they are.
+
+use super::excitation::{damping_law, impulse_force, Pickup, PickupKind, RaisedCosine};
+use super::{LinearSolve, PlateModel, PlateParams, PlateScheme};
+use crate::error::ParamError;
+use crate::modal::{
+    default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
+};
+use crate::render::source::{EnergyTerms, RenderSource};
+use crate::scene::plate::PlateScheme as SceneScheme;
+use crate::scene::plate::{Damping, Excitation, PlateScene, PlateShape, Position, Quantity};
+use std::sync::Arc;
+
+/// The force applied at the excitation point, sample by sample.
+#[derive(Debug, Clone, Copy)]
+enum ForceSignal {
+    /// Raised-cosine pulse.
+    Strike(RaisedCosine),
+    /// A one-step force carrying the whole impulse at step 0.
+    Impulse(f64),
+}
+
+/// A plate voice ready to render: the model, its excitation and what it was built from.
+///
+/// Built on a worker (or the CLI's main) thread; `process` runs on the render or audio thread.
+pub struct PlateVoice {
+    model: PlateModel<CouplingTensor>,
+    force: ForceSignal,
+    /// Steps taken since the start.
+    step: u64,
+    fs: f64,
+    /// Figures for the report.
+    info: PlateInfo,
+}
+
+/// What a voice was built from, for reports.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct PlateInfo {
+    /// Transverse modes kept.
+    pub n_phi: usize,
+    /// In-plane modes kept (0: linear plate).
+    pub n_psi: usize,
+    /// Highest transverse frequency (Hz).
+    pub f_max: f64,
+    /// Lowest transverse frequency (Hz).
+    pub f_min: f64,
+    /// Non-zero stored tensor entries.
+    pub tensor_nonzeros: usize,
+    /// Whether the modal data came from the cache.
+    pub cache: String,
+    /// Seconds spent computing or loading the modal data.
+    pub modal_seconds: f64,
+    /// Scheme identifier.
+    pub scheme: String,
+}
+
+fn map_err(e: ParamError) -> String {
+    e.to_string()
+}
+
+impl PlateVoice {
+    /// Builds the voice for `scene` (validated), computing or loading its modal data.
+    pub fn build(scene: &PlateScene) -> Result<Self, String> {
+        scene.validate().map_err(map_err)?;
+        let start = std::time::Instant::now();
+        let nu = scene.material.poisson;
+        let linear_only = scene.n_psi == 0;
+        let (lambda2, zeta4, coupling, phi_at, cache): (
+            Vec<f64>,
+            Vec<f64>,
+            CouplingTensor,
+            Box<dyn Fn(usize, &Position) -> f64>,
+            String,
+        ) = match scene.shape {
+            PlateShape::CircularFree | PlateShape::CircularClamped => {
+                let edge = if scene.shape == PlateShape::CircularFree {
+                    CircularEdge::Free
+                } else {
+                    CircularEdge::Clamped
+                };
+                let spec = CircularPlateSpec::new(edge, nu, scene.n_phi, scene.n_psi.max(1), None)
+                    .map_err(|e| format!("plate: {e}"))?;
+                let (modes, outcome) =
+                    PlateModes::load_or_build(&spec, &default_cache_dir()).map_err(map_err)?;
+                let cache = match outcome {
+                    CacheOutcome::Hit => "hit".to_string(),
+                    CacheOutcome::Built => "built and saved".to_string(),
+                    CacheOutcome::Rebuilt(why) => format!("rebuilt ({why})"),
+                    CacheOutcome::NotSaved(why) => format!("built, not saved ({why})"),
+                };
+                let modes = Arc::new(modes);
+                let m2 = modes.clone();
+                let phi = Box::new(move |s: usize, p: &Position| {
+                    m2.phi_at(s, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0))
+                });
+                (
+                    modes.omega.clone(),
+                    modes.zeta4.clone(),
+                    modes.coupling.clone(),
+                    phi,
+                    cache,
+                )
+            }
+            PlateShape::RectSs => {
+                return Err(
+                    "plate.shape = rect-ss: the rectangular basis is not wired to scenes yet"
+                        .into(),
+                )
+            }
+        };
+        let modal_seconds = start.elapsed().as_secs_f64();
+        let a = scene.length_scale();
+        let omega_scale = (scene.rigidity() / scene.surface_density()).sqrt() / (a * a);
+        let omega: Vec<f64> = lambda2.iter().map(|l2| l2 * omega_scale).collect();
+        let damping = match scene.damping {
+            Damping::None => vec![0.0; omega.len()],
+            Damping::Power { a, b, c0 } => damping_law(&omega, a, b, c0).map_err(map_err)?,
+            Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
+        };
+        let scheme = match scene.scheme {
+            SceneScheme::Conservative => PlateScheme::ConservativeTheta1,
+            SceneScheme::ConservativeExact => PlateScheme::ConservativeExact,
+            SceneScheme::StormerVerlet => PlateScheme::StormerVerletExact,
+        };
+        let params = PlateParams {
+            omega: omega.clone(),
+            zeta4: zeta4.iter().map(|z| z / a.powi(4)).collect(),
+            rho_h: scene.surface_density(),
+            e_h: scene.material.youngs_modulus * scene.thickness,
+            coupling_scale: if linear_only { 0.0 } else { a.powi(-5) },
+            fs: scene.sim_rate,
+            damping,
+            scheme,
+            solve: LinearSolve::Auto,
+        };
+        let weights = |p: &Position| {
+            (0..omega.len())
+                .map(|s| phi_at(s, p) / a)
+                .collect::<Vec<f64>>()
+        };
+        let (at, force) = match scene.excitation {
+            Excitation::Strike {
+                at,
+                duration,
+                peak_force,
+            } => (
+                at,
+                ForceSignal::Strike(RaisedCosine::new(duration, peak_force).map_err(map_err)?),
+            ),
+            Excitation::Impulse { at, impulse } => (
+                at,
+                ForceSignal::Impulse(impulse_force(impulse, scene.sim_rate)),
+            ),
+        };
+        let pickups = scene
+            .effective_pickups()
+            .iter()
+            .map(|p| {
+                let kind = match p.quantity {
+                    Quantity::Displacement => PickupKind::Displacement,
+                    Quantity::Velocity => PickupKind::VelocityBackward,
+                };
+                Pickup::new(weights(&p.at), kind)
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(map_err)?;
+        let nnz = coupling.nnz();
+        let model = PlateModel::new(&params, Arc::new(coupling), weights(&at), pickups)
+            .map_err(|e| format!("plate: {e}"))?;
+        let two_pi = std::f64::consts::TAU;
+        let info = PlateInfo {
+            n_phi: omega.len(),
+            n_psi: if linear_only { 0 } else { zeta4.len() },
+            f_max: omega.iter().fold(0.0f64, |m, &w| m.max(w)) / two_pi,
+            f_min: omega.iter().fold(f64::INFINITY, |m, &w| m.min(w)) / two_pi,
+            tensor_nonzeros: if linear_only { 0 } else { nnz },
+            cache,
+            modal_seconds,
+            scheme: match scene.scheme {
+                SceneScheme::Conservative => "conservative",
+                SceneScheme::ConservativeExact => "conservative-exact",
+                SceneScheme::StormerVerlet => "stormer-verlet",
+            }
+            .into(),
+        };
+        Ok(Self {
+            model,
+            force,
+            step: 0,
+            fs: scene.sim_rate,
+            info,
+        })
+    }
+
+    /// What the voice was built from.
+    pub fn info(&self) -> &PlateInfo {
+        &self.info
+    }
+
+    /// The underlying model.
+    pub fn model(&self) -> &PlateModel<CouplingTensor> {
+        &self.model
+    }
+
+    fn force_at(&self, n: u64) -> f64 {
+        match self.force {
+            ForceSignal::Strike(s) => s.force(n as f64 / self.fs),
+            ForceSignal::Impulse(f) => {
+                if n == 0 {
+                    f
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+}
+
+impl RenderSource for PlateVoice {
+    fn sim_rate(&self) -> f64 {
+        self.fs
+    }
+
+    fn channels(&self) -> usize {
+        self.model.outputs().len()
+    }
+
+    fn process(&mut self, out: &mut [Vec<f64>], frames: usize) {
+        for i in 0..frames {
+            let f = self.force_at(self.step);
+            // A diverged model keeps reporting its (non-finite) outputs; the renderer counts
+            // them and the report says so.
+            let _ = self.model.step(f);
+            self.step += 1;
+            for (c, &y) in out.iter_mut().zip(self.model.outputs()) {
+                c[i] = y;
+            }
+        }
+    }
+
+    fn energy(&self) -> EnergyTerms {
+        let e = self.model.energy();
+        EnergyTerms {
+            kinetic: e.kinetic,
+            linear: e.linear,
+            nonlinear: e.nonlinear,
+            dissipated: e.dissipated,
+            work: e.work,
+        }
+    }
+
+    fn is_conservative(&self) -> bool {
+        self.model.scheme().is_conservative()
+    }
+
+    fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
+        match serde_json::to_value(&self.info) {
+            Ok(serde_json::Value::Object(m)) => m,
+            _ => serde_json::Map::new(),
+        }
+    }
+}

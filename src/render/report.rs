@@ -1,0 +1,156 @@
+//! The render report (JSON) and figures (energy curves, waveform, spectrogram).
+
+use super::offline::{EnergyStats, Rendered};
+use crate::analysis::spectrogram::spectrogram;
+use crate::plot::spectrogram::write_spectrogram_png;
+use crate::plot::{write_png, Panel, Scale, Series};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The JSON report of one render.
+#[derive(Debug, Clone, Serialize)]
+pub struct RenderReport {
+    /// Scene name.
+    pub scene: String,
+    /// Model family (`plate`, ...).
+    pub model: String,
+    /// Scheme identifier.
+    pub scheme: String,
+    /// Whether the scheme conserves its discrete energy.
+    pub conservative: bool,
+    /// WAV sample rate (Hz).
+    pub sample_rate: u32,
+    /// Simulation rate (Hz).
+    pub sim_rate: f64,
+    /// Rendered duration (s).
+    pub seconds: f64,
+    /// Transverse modes.
+    pub n_phi: usize,
+    /// In-plane modes.
+    pub n_psi: usize,
+    /// Energy figures.
+    pub energy: EnergyStats,
+    /// Non-finite samples or energies (0 for a healthy run).
+    pub nan_count: u64,
+    /// Largest absolute output sample (after gain).
+    pub peak: f64,
+    /// Wall-clock seconds of simulation.
+    pub wall_seconds: f64,
+    /// Simulated seconds per wall-clock second.
+    pub realtime_factor: f64,
+    /// Model-specific figures.
+    pub details: serde_json::Map<String, serde_json::Value>,
+}
+
+/// Writes the energy, waveform and spectrogram PNGs of a render into `dir`, named after
+/// `stem`; returns the paths written. `max_freq` (Hz) limits the spectrogram's frequency axis
+/// (also capped at Nyquist).
+pub fn write_plots(
+    dir: &Path,
+    stem: &str,
+    r: &Rendered,
+    sim_rate: f64,
+    out_rate: u32,
+    max_freq: f64,
+) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
+    let mut written = Vec::new();
+    let dt = r.energy_stride as f64 / sim_rate;
+    let t: Vec<f64> = (0..r.energy.len()).map(|k| k as f64 * dt).collect();
+    let col = |f: &dyn Fn(&super::source::EnergyTerms) -> f64| {
+        r.energy.iter().map(f).collect::<Vec<f64>>()
+    };
+    let energies = Panel::new(
+        "energies (as on the lecture's slide)",
+        "t (s)",
+        "energy (J)",
+    )
+    .push(Series::line("total", t.clone(), col(&|e| e.total())))
+    .push(Series::line("kinetic", t.clone(), col(&|e| e.kinetic)))
+    .push(Series::line(
+        "transverse (linear potential)",
+        t.clone(),
+        col(&|e| e.linear),
+    ))
+    .push(Series::line(
+        "in-plane / contact (nonlinear)",
+        t.clone(),
+        col(&|e| e.nonlinear),
+    ));
+    let scale = r.stats.energy.max.max(f64::MIN_POSITIVE);
+    let b0 = r.energy.first().map_or(0.0, |e| e.balance());
+    let balance = Panel::new(
+        "power balance error",
+        "t (s)",
+        "(balance - balance0) / max energy",
+    )
+    .push(Series::line(
+        "energy + dissipated - work",
+        t.clone(),
+        col(&|e| (e.balance() - b0) / scale),
+    ));
+    let share = Panel::new("in-plane share of the energy", "t (s)", "nonlinear / total").push(
+        Series::line(
+            "u / (t + v + u)",
+            t.clone(),
+            col(&|e| {
+                if e.total() > 0.0 {
+                    e.nonlinear / e.total()
+                } else {
+                    0.0
+                }
+            }),
+        ),
+    );
+    let losses = Panel::new("losses and work", "t (s)", "energy (J)")
+        .push(Series::line(
+            "dissipated",
+            t.clone(),
+            col(&|e| e.dissipated),
+        ))
+        .push(Series::line(
+            "work by the excitation",
+            t.clone(),
+            col(&|e| e.work),
+        ));
+    let path = dir.join(format!("{stem}-energy.png"));
+    write_png(
+        &path,
+        &format!("{stem}: energy"),
+        &[energies, balance, share, losses],
+        2,
+        (760, 420),
+    )
+    .map_err(|e| e.to_string())?;
+    written.push(path);
+    let ch = &r.out[0];
+    let tt: Vec<f64> = (0..ch.len()).map(|n| n as f64 / out_rate as f64).collect();
+    let wave =
+        Panel::new("pickup 1", "t (s)", "output").push(Series::line("", tt.clone(), ch.clone()));
+    let level: Vec<f64> = ch.iter().map(|x| x.abs().max(1e-300)).collect();
+    let env = Panel::new("level", "t (s)", "|output|")
+        .scales(Scale::Linear, Scale::Log10)
+        .push(Series::line("", tt, level));
+    let path = dir.join(format!("{stem}-waveform.png"));
+    write_png(
+        &path,
+        &format!("{stem}: waveform"),
+        &[wave, env],
+        1,
+        (1100, 320),
+    )
+    .map_err(|e| e.to_string())?;
+    written.push(path);
+    let spec = spectrogram(ch, out_rate as f64, 2048, 256);
+    let path = dir.join(format!("{stem}-spectrogram.png"));
+    write_spectrogram_png(
+        &path,
+        &format!("{stem}: spectrogram (pickup 1, dB)"),
+        &spec,
+        max_freq.min(out_rate as f64 / 2.0),
+        100.0,
+    )
+    .map_err(|e| e.to_string())?;
+    written.push(path);
+    Ok(written)
+}
