@@ -21,6 +21,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod modal_rect;
 pub mod plot;
 pub mod render;
 pub mod scene;
