@@ -14,6 +14,8 @@
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits);
+//! - [`modal_rect`]: modal data of the simply supported rectangular von Kármán plate (closed-form
+//!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in

@@ -14,6 +14,9 @@
 //! Built on a worker thread (classes solved in parallel with rayon), never on the audio thread.
 
 use super::beam::{ClampedBasis1d, Scratch};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
 use faer::{Mat, Side};
 use rayon::prelude::*;
 
@@ -78,7 +81,7 @@ fn solve_class(
 ) -> Result<Vec<AiryMode>, String> {
     let (nx, ny) = (bx.len_basis(), by.len_basis());
     let n = nx * ny;
-    let k = Mat::<f64>::from_fn(n, n, |r, c| {
+    let kfn = |r: usize, c: usize| {
         let (p, q) = (r / ny, r % ny);
         let (pp, qq) = (c / ny, c % ny);
         let mut v = 2.0 * bx.grad[p * nx + pp] * by.grad[q * ny + qq];
@@ -89,15 +92,37 @@ fn solve_class(
             v += by.stiff[q * ny + qq];
         }
         v
-    });
-    let evd = k
+    };
+    // K spans ζ⁴ from ~10³ to ~10¹³ (the top polynomial modes), so a direct eigensolve would
+    // give the low modes only an absolute accuracy eps·|K|. Instead: scale K by its diagonal,
+    // D = diag(K)^(-1/2), K̃ = D K D (well conditioned), K̃ = L̃ L̃ᵀ, and solve the inverse
+    // problem S y = μ y with S = L̃⁻¹ D² L̃⁻ᵀ, μ = 1/ζ⁴, c = D L̃⁻ᵀ y / sqrt(μ). The wanted low
+    // modes are the largest μ, accurate relative to |S| = μ_max.
+    let dsc: Vec<f64> = (0..n).map(|r| 1.0 / kfn(r, r).sqrt()).collect();
+    let kt = Mat::<f64>::from_fn(n, n, |r, c| kfn(r, c) * dsc[r] * dsc[c]);
+    let llt = kt
+        .llt(Side::Lower)
+        .map_err(|e| format!("Airy stiffness not positive definite in class {class}: {e:?}"))?;
+    let l = llt.L();
+    let par = faer::get_global_parallelism();
+    let mut z = Mat::<f64>::from_fn(n, n, |r, c| if r == c { dsc[r] } else { 0.0 });
+    solve_lower_triangular_in_place(l, z.as_mut(), par);
+    let s = &z * z.transpose();
+    let evd = s
         .self_adjoint_eigen(Side::Lower)
         .map_err(|e| format!("Airy eigensolver failed in class {class}: {e:?}"))?;
-    let s = evd.S().column_vector();
-    let u = evd.U();
+    let mu = evd.S().column_vector();
+    let mut x = evd.U().to_owned();
+    solve_upper_triangular_in_place(l.transpose(), x.as_mut(), par);
+    let mu_max = mu[n - 1];
     let mut out = Vec::with_capacity(n);
-    for col in 0..n {
-        let mut coef: Vec<f64> = (0..n).map(|r| u[(r, col)]).collect();
+    for col in (0..n).rev() {
+        // Eigenvalues below 1e-12 μ_max carry no correct digit (spurious top modes): drop.
+        if mu[col].partial_cmp(&(1e-12 * mu_max)) != Some(std::cmp::Ordering::Greater) {
+            break;
+        }
+        let mut coef: Vec<f64> = (0..n).map(|r| x[(r, col)] * dsc[r]).collect();
+        let norm = coef.iter().map(|c| c * c).sum::<f64>().sqrt();
         // Sign convention: the largest coefficient is positive (first one on ties).
         let mut big = 0.0f64;
         for &c in &coef {
@@ -105,11 +130,10 @@ fn solve_class(
                 big = c;
             }
         }
-        if big < 0.0 {
-            coef.iter_mut().for_each(|c| *c = -*c);
-        }
+        let scale = big.signum() / norm;
+        coef.iter_mut().for_each(|c| *c *= scale);
         out.push(AiryMode {
-            zeta4: s[col],
+            zeta4: 1.0 / mu[col],
             class,
             coef,
         });

@@ -235,7 +235,11 @@ mod tests {
                 let beta = beam_root(2 * p + parity + 1);
                 let got = b.stiff[p * 30 + p];
                 let rel = (got - beta.powi(4)).abs() / beta.powi(4);
-                assert!(rel < 1e-11, "parity {parity} p {p}: {got} vs {}", beta.powi(4));
+                assert!(
+                    rel < 1e-11,
+                    "parity {parity} p {p}: {got} vs {}",
+                    beta.powi(4)
+                );
             }
         }
     }

@@ -132,12 +132,8 @@ mod tests {
         // ∫ t^{2j} dt = 2/(2j+1); exact up to degree 2n-1 (tolerance: roundoff of a sum of
         // n positive terms of size ≤ 2).
         let (x, w) = gauss_legendre(17);
-        for j in 0..17 {
-            let s: f64 = x
-                .iter()
-                .zip(&w)
-                .map(|(t, w)| w * t.powi(2 * j as i32))
-                .sum();
+        for j in 0..17i32 {
+            let s: f64 = x.iter().zip(&w).map(|(t, w)| w * t.powi(2 * j)).sum();
             assert!((s - 2.0 / (2 * j + 1) as f64).abs() < 1e-14, "j={j} s={s}");
         }
         let (x, w) = gauss_legendre(200);
@@ -170,7 +166,11 @@ mod tests {
         for j in 0..n {
             for k in 0..n {
                 let e = if j == k { 1.0 } else { 0.0 };
-                assert!((a[j * n + k] - e).abs() < 1e-12, "A[{j},{k}]={}", a[j * n + k]);
+                assert!(
+                    (a[j * n + k] - e).abs() < 1e-12,
+                    "A[{j},{k}]={}",
+                    a[j * n + k]
+                );
             }
         }
     }

@@ -101,7 +101,8 @@ impl RectSpec {
     /// Legendre variable `t ∈ [-1,1]` plus a margin for spectral convergence; validated by the
     /// doubling tests in `tests/modal_rect.rs`).
     pub fn basis(&self) -> (usize, usize) {
-        let zeta = 1.25 * (4.0 * std::f64::consts::PI * self.n_psi as f64 / self.aspect).sqrt() + 6.0;
+        let zeta =
+            1.25 * (4.0 * std::f64::consts::PI * self.n_psi as f64 / self.aspect).sqrt() + 6.0;
         let auto = |len: f64| ((zeta * len / 2.0).ceil() as usize + 24).min(400);
         (
             self.basis_x.unwrap_or_else(|| auto(1.0)),
@@ -114,7 +115,11 @@ fn check_count(field: &str, v: usize, lo: usize, hi: usize) -> Result<usize, Par
     if (lo..=hi).contains(&v) {
         Ok(v)
     } else {
-        Err(ParamError::new(field, v, format!("integer in [{lo}, {hi}]")))
+        Err(ParamError::new(
+            field,
+            v,
+            format!("integer in [{lo}, {hi}]"),
+        ))
     }
 }
 
@@ -140,6 +145,7 @@ pub struct RectModes {
     /// Gauss-Legendre points per direction used for the tensor's 1D integrals.
     pub quad_points: usize,
     airy: airy::AiryModes,
+    tables: coupling::CosineTables,
 }
 
 impl RectModes {
@@ -166,7 +172,7 @@ impl RectModes {
         let quad_points = spec
             .quad_points
             .unwrap_or(nx.max(ny) + 2 * (m_max.max(n_max)) + 40);
-        let coupling = coupling::build(aspect, &labels, &airy, quad_points);
+        let (coupling, tables) = coupling::build(aspect, &labels, &airy, quad_points);
         Ok(Self {
             aspect,
             zeta4: airy.modes.iter().map(|m| m.zeta4).collect(),
@@ -181,6 +187,7 @@ impl RectModes {
             basis: (nx, ny),
             quad_points,
             airy,
+            tables,
         })
     }
 
@@ -196,6 +203,16 @@ impl RectModes {
     pub fn psi_derivs_at(&self, l: usize, xi: f64, eta: f64) -> [f64; 6] {
         let mut s = self.airy.scratch();
         self.airy.derivs(l, xi, eta * self.aspect, &mut s)
+    }
+
+    /// `H^l_{ij}` recomputed on demand for either order of `i`, `j` with the same arithmetic
+    /// as the stored triplets (so `h_entry(l, i, j) == h_entry(l, j, i)` bitwise and equals
+    /// the stored value); exactly 0 when the parity rule forbids the entry. Worker thread.
+    pub fn h_entry(&self, l: usize, i: usize, j: usize) -> f64 {
+        let (li, lj) = (self.labels[i], self.labels[j]);
+        self.tables
+            .entry(self.aspect, &self.airy, l, li, lj)
+            .expect("labels of this RectModes always fit its tables")
     }
 
     /// Physical pulsations `ω_k = λ²_k sqrt(D/ρh) / Lx²` (rad/s) for side `lx` (m), bending
