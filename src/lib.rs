@@ -18,6 +18,9 @@
 //! - [`models`]: the instrument models (the modal von Kármán plate);
 //! - [`scene`], [`render`]: scene files and the offline render loop (WAV, resampling);
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
+//! - [`plot`]: PNG figures (waveforms, energies, phase portraits);
+//! - [`modal_rect`]: modal data of the simply supported rectangular von Kármán plate (closed-form
+//!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
@@ -27,6 +30,7 @@ pub mod analysis;
 pub mod error;
 pub mod lab;
 pub mod modal;
+pub mod modal_rect;
 pub mod models;
 pub mod plot;
 pub mod render;

@@ -96,6 +96,12 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
     );
     println!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.plot {
+        // Show up to 4x the highest modelled frequency: the cascade spreads energy upwards.
+        let f_max = report
+            .details
+            .get("f_max")
+            .and_then(|v| v.as_f64())
+            .unwrap_or(f64::INFINITY);
         for p in write_plots(
             dir,
             &scene.name,

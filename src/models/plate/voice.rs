@@ -13,6 +13,7 @@ use crate::error::ParamError;
 use crate::modal::{
     default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
 };
+use crate::modal_rect::{CouplingTriplets, RectModes, RectSpec};
 use crate::render::source::{EnergyTerms, RenderSource};
 use crate::scene::plate::PlateScheme as SceneScheme;
 use crate::scene::plate::{Damping, Excitation, PlateScene, PlateShape, Position, Quantity};
@@ -65,6 +66,26 @@ fn map_err(e: ParamError) -> String {
     e.to_string()
 }
 
+/// Converts the rectangle's triplet list (sorted by `l`, then `i`, then `j ≤ i`) to the
+/// streaming CSR layout the time stepper reads.
+fn tensor_from_triplets(t: &CouplingTriplets) -> Result<CouplingTensor, ParamError> {
+    let mut row_start = vec![0u32; t.n_psi + 1];
+    for &l in &t.l {
+        row_start[l as usize + 1] += 1;
+    }
+    for l in 0..t.n_psi {
+        row_start[l + 1] += row_start[l];
+    }
+    CouplingTensor::from_parts(
+        t.n_phi,
+        t.n_psi,
+        row_start,
+        t.i.clone(),
+        t.j.clone(),
+        t.value.clone(),
+    )
+}
+
 impl PlateVoice {
     /// Builds the voice for `scene` (validated), computing or loading its modal data.
     pub fn build(scene: &PlateScene) -> Result<Self, String> {
@@ -109,9 +130,22 @@ impl PlateVoice {
                 )
             }
             PlateShape::RectSs => {
-                return Err(
-                    "plate.shape = rect-ss: the rectangular basis is not wired to scenes yet"
-                        .into(),
+                let (lx, ly) = (scene.lx.unwrap_or(1.0), scene.ly.unwrap_or(1.0));
+                let spec = RectSpec::new(ly / lx, scene.n_phi, scene.n_psi.max(1));
+                let modes = Arc::new(RectModes::build(&spec).map_err(|e| format!("plate: {e}"))?);
+                let coupling = tensor_from_triplets(&modes.coupling).map_err(map_err)?;
+                let m2 = modes.clone();
+                let phi = Box::new(move |s: usize, p: &Position| {
+                    m2.phi_at(s, p.x.unwrap_or(0.5), p.y.unwrap_or(0.5))
+                });
+                // The rectangle builds in about a second, faster than reading its tensor
+                // back from disk, so it is not cached.
+                (
+                    modes.lambda2.clone(),
+                    modes.zeta4.clone(),
+                    coupling,
+                    phi,
+                    "not cached (built directly)".to_string(),
                 )
             }
         };
