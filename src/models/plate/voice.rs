@@ -7,7 +7,7 @@
 //! `coupling_scale = a⁻⁵`). Size, thickness and material therefore change only these scalars:
 //! the dimensionless basis and tensor are reused as they are.
 
-use super::excitation::{damping_law, impulse_force, Pickup, PickupKind, RaisedCosine};
+use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
 use super::{LinearSolve, PlateModel, PlateParams, PlateScheme};
 use crate::error::ParamError;
 use crate::modal::{
@@ -24,8 +24,8 @@ use std::sync::Arc;
 enum ForceSignal {
     /// Raised-cosine pulse.
     Strike(RaisedCosine),
-    /// A one-step force carrying the whole impulse at step 0.
-    Impulse(f64),
+    /// No force during the run (an impulse is applied as the initial velocity).
+    None,
 }
 
 /// A plate voice ready to render: the model, its excitation and what it was built from.
@@ -188,10 +188,7 @@ impl PlateVoice {
                 at,
                 ForceSignal::Strike(RaisedCosine::new(duration, peak_force).map_err(map_err)?),
             ),
-            Excitation::Impulse { at, impulse } => (
-                at,
-                ForceSignal::Impulse(impulse_force(impulse, scene.sim_rate)),
-            ),
+            Excitation::Impulse { at, .. } => (at, ForceSignal::None),
         };
         let pickups = scene
             .effective_pickups()
@@ -206,8 +203,24 @@ impl PlateVoice {
             .collect::<Result<Vec<_>, _>>()
             .map_err(map_err)?;
         let nnz = coupling.nnz();
-        let model = PlateModel::new(&params, Arc::new(coupling), weights(&at), pickups)
+        let strike_weights = weights(&at);
+        // A Dirac impulse J at x0 is the initial velocity q̇_s(0) = J Φ_s(x0) / ρh.
+        let initial_velocity: Option<Vec<f64>> = match scene.excitation {
+            Excitation::Impulse { impulse, .. } => Some(
+                strike_weights
+                    .iter()
+                    .map(|w| impulse * w / scene.surface_density())
+                    .collect(),
+            ),
+            Excitation::Strike { .. } => None,
+        };
+        let mut model = PlateModel::new(&params, Arc::new(coupling), strike_weights, pickups)
             .map_err(|e| format!("plate: {e}"))?;
+        if let Some(v0) = initial_velocity {
+            model
+                .set_state(&vec![0.0; v0.len()], &v0)
+                .map_err(map_err)?;
+        }
         let two_pi = std::f64::consts::TAU;
         let info = PlateInfo {
             n_phi: omega.len(),
@@ -246,13 +259,7 @@ impl PlateVoice {
     fn force_at(&self, n: u64) -> f64 {
         match self.force {
             ForceSignal::Strike(s) => s.force(n as f64 / self.fs),
-            ForceSignal::Impulse(f) => {
-                if n == 0 {
-                    f
-                } else {
-                    0.0
-                }
-            }
+            ForceSignal::None => 0.0,
         }
     }
 }
