@@ -14,6 +14,7 @@
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits);
+//! - [`models`]: physical models run by the renderer (stiff string against an obstacle);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
@@ -21,6 +22,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod models;
 pub mod plot;
 pub mod render;
 pub mod scene;
