@@ -166,15 +166,26 @@ pub fn solve_point(law: &ContactLaw, eta_prev: f64, b: f64, k: f64) -> PointSolu
             lo = r;
         }
         let slope = 1.0 + k * law.divided_difference_slope(eta_prev, r, phi);
-        let mut next = r - g / slope;
+        let step = g / slope;
+        let scale = b.abs().max(r.abs()).max(eta_prev.abs());
+        if step.abs() <= NEWTON_TOL * scale {
+            // Converged: the Newton correction is below tolerance (it may round to `r`
+            // itself, which is why this test comes before the bracket test).
+            let r = r - step;
+            return PointSolution {
+                r,
+                force: law.divided_difference(eta_prev, r),
+                iterations: it,
+                capped: false,
+            };
+        }
+        let mut next = r - step;
         if !(next > lo && next < hi) {
             next = 0.5 * (lo + hi);
         }
-        let scale = b.abs().max(r.abs()).max(eta_prev.abs());
-        let step = (next - r).abs();
         r = next;
         phi = law.divided_difference(eta_prev, r);
-        if step <= NEWTON_TOL * scale || hi - lo <= NEWTON_TOL * scale {
+        if hi - lo <= NEWTON_TOL * scale {
             return PointSolution {
                 r,
                 force: phi,

@@ -358,6 +358,11 @@ impl StiffString {
         }
     }
 
+    /// Writes channel `c` of the current state to `out[c][n]` (`out.len() >= channels`).
+    pub fn write_outputs(&self, out: &mut [Vec<f64>], n: usize) {
+        self.read_outputs(|c, v| out[c][n] = v);
+    }
+
     /// Validated parameters.
     pub fn params(&self) -> &StringParams {
         &self.params
@@ -421,7 +426,7 @@ impl RenderSource for StiffString {
     fn process(&mut self, out: &mut [Vec<f64>], frames: usize) {
         for n in 0..frames {
             self.step();
-            self.read_outputs(|c, v| out[c][n] = v);
+            self.write_outputs(out, n);
         }
     }
 

@@ -68,16 +68,28 @@ impl ModalMap {
         self.len() == 0
     }
 
+    /// Unnormalised DST-I in place.
+    ///
+    /// rustdct 0.7.1's FFT-based DST-I copies the input into the scratch's FFT buffer but never
+    /// writes the two zero entries of the odd extension (indices 0 and N), relying on a zeroed
+    /// scratch; the FFT leaves data there, so a reused scratch corrupts the next transform.
+    /// Zeroing the scratch first (O(N), no allocation) makes every call independent
+    /// (regression test `repeated_transforms_are_identical`).
+    fn dst(&mut self, buf: &mut [f64]) {
+        self.scratch.fill(0.0);
+        self.dst.process_dst1_with_scratch(buf, &mut self.scratch);
+    }
+
     /// In place: `buf ← S buf` (modal coordinates in m^3/2 → grid displacements in m).
     pub fn synthesis(&mut self, buf: &mut [f64]) {
-        self.dst.process_dst1_with_scratch(buf, &mut self.scratch);
+        self.dst(buf);
         let k = self.norm;
         buf.iter_mut().for_each(|x| *x *= k);
     }
 
     /// In place: `buf ← S⁻¹ buf = Δx S buf` (grid values → modal coordinates).
     pub fn analysis(&mut self, buf: &mut [f64]) {
-        self.dst.process_dst1_with_scratch(buf, &mut self.scratch);
+        self.dst(buf);
         let k = self.norm * self.dx;
         buf.iter_mut().for_each(|x| *x *= k);
     }
@@ -102,6 +114,22 @@ impl ModalMap {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn repeated_transforms_are_identical() {
+        // The same input must give bit-identical output however often the scratch is reused.
+        for n in [10, 64, 300] {
+            let mut map = ModalMap::new(1.0, n);
+            let x: Vec<f64> = (0..n - 1).map(|i| (i as f64 * 0.37).sin()).collect();
+            let mut first = x.clone();
+            map.synthesis(&mut first);
+            for _ in 0..3 {
+                let mut again = x.clone();
+                map.synthesis(&mut again);
+                assert_eq!(first, again, "N = {n}");
+            }
+        }
+    }
 
     #[test]
     fn inverse_is_dx_times_s() {
