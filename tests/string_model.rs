@@ -76,26 +76,20 @@ struct EnergyRun {
     max_force: f64,
 }
 
-/// Steps `steps` times through `RenderSource::process` (blocks of 256), sampling the energy
-/// after every step.
+/// Steps `steps` times through `RenderSource::process`, one step per call, sampling the energy
+/// and checking every output after every step.
 fn run(s: &mut StiffString, steps: usize) -> EnergyRun {
-    let mut out = vec![vec![0.0; 256]; s.channels()];
+    let mut out = vec![vec![0.0; 1]; s.channels()];
     let first = s.energy();
     let (mut drift, mut bal, mut max, mut max_force) = (0.0f64, 0.0f64, first.total(), 0.0f64);
     let mut hist = Vec::with_capacity(steps);
-    let mut done = 0;
-    while done < steps {
-        let frames = (steps - done).min(256);
-        for n in 0..frames {
-            s.process(&mut out, 1);
-            let _ = n;
-            let e = s.energy();
-            hist.push(e);
-            max = max.max(e.total());
-            max_force = max_force.max(out[2][0]);
-            assert!(out.iter().all(|c| c[0].is_finite()));
-        }
-        done += frames;
+    for _ in 0..steps {
+        s.process(&mut out, 1);
+        let e = s.energy();
+        hist.push(e);
+        max = max.max(e.total());
+        max_force = max_force.max(out[2][0]);
+        assert!(out.iter().all(|c| c[0].is_finite()));
     }
     for e in &hist {
         drift = drift.max((e.total() - first.total()).abs() / max);

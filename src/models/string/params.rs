@@ -44,6 +44,7 @@ pub struct StringParams {
     /// Diameter `d` in m (≥ 0), used only by the air-friction loss term.
     pub diameter: f64,
     /// Number of grid intervals `N` (2 ..= [`MAX_INTERVALS`]); the model has `N - 1` modes.
+    /// Any value works; [`StringParams::smooth_intervals`] picks a fast one.
     pub intervals: usize,
     /// Simulation rate `fs = 1/h` in Hz (> 0). Any value is stable (the linear scheme is exact);
     /// partials above `fs/2` alias but their samples stay exact.
@@ -64,6 +65,23 @@ impl StringParams {
             intervals,
             sample_rate,
         }
+    }
+
+    /// The smallest `N ≥ min_intervals` whose DST-I is fast: `2N` has no prime factor above 7
+    /// (the DST-I of length `N - 1` runs as a complex FFT of length `2N`; a large prime factor
+    /// sends rustfft to Rader/Bluestein, 3-5× slower). For example 501 → 504, 1001 → 1008.
+    pub fn smooth_intervals(min_intervals: usize) -> usize {
+        let smooth = |mut n: usize| {
+            for p in [2, 3, 5, 7] {
+                while n % p == 0 {
+                    n /= p;
+                }
+            }
+            n == 1
+        };
+        (min_intervals.max(2)..)
+            .find(|&n| smooth(2 * n))
+            .unwrap_or(min_intervals)
     }
 
     /// Checks every field; the error names the field, the value and the allowed range.
@@ -174,6 +192,14 @@ impl StringParams {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn smooth_intervals_have_small_prime_factors() {
+        assert_eq!(StringParams::smooth_intervals(501), 504);
+        assert_eq!(StringParams::smooth_intervals(1001), 1008);
+        assert_eq!(StringParams::smooth_intervals(64), 64);
+        assert_eq!(StringParams::smooth_intervals(101), 105);
+    }
 
     #[test]
     fn lecture_string_is_196_hz_and_b_round_trips() {
