@@ -12,6 +12,10 @@ use super::transform::ModalMap;
 use crate::error::ParamError;
 use crate::render::source::{EnergyTerms, RenderSource};
 
+/// Largest number of obstacle nodes for which the rows of `S⁻¹` are stored (memory
+/// `ROW_LIMIT · N_m` values); with more nodes the modal contact force goes through a DST.
+pub const ROW_LIMIT: usize = 64;
+
 /// Everything needed to build a [`StiffString`].
 ///
 /// Built on the control thread.
@@ -80,6 +84,10 @@ pub struct StiffString {
     contact_g: Vec<f64>,
     /// Contact force densities `f_i` of the last step at those nodes (N/m).
     contact_f: Vec<f64>,
+    /// Rows of `S⁻¹` at the obstacle nodes, `rows[n·N_m + j-1] = Δx φ_j(x_i)` (m^1/2), kept
+    /// when there are at most [`ROW_LIMIT`] obstacle nodes (empty otherwise): the modal force
+    /// of a few active nodes is then a sum over those rows, cheaper than a DST.
+    rows: Vec<f64>,
     /// Contact law.
     law: ContactLaw,
     /// Solver counters.
@@ -147,6 +155,17 @@ impl StiffString {
             contact_nodes: samples.iter().map(|s| s.0).collect(),
             contact_g: samples.iter().map(|s| s.1).collect(),
             contact_f: vec![0.0; samples.len()],
+            rows: if samples.len() <= ROW_LIMIT {
+                samples
+                    .iter()
+                    .flat_map(|&(i, _)| {
+                        let x = (i + 1) as f64 * p.dx();
+                        (1..=m).map(move |j| p.dx() * p.mode_shape(j, x))
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
             law: config.contact,
             stats: ContactStats::default(),
             dissipated: 0.0,
@@ -280,16 +299,29 @@ impl StiffString {
             }
         }
         self.obstacle_force = total * self.params.dx();
-        // 4. Modal correction Δ += k S⁻¹ f (one DST, only when some force acted).
+        // 4. Modal correction Δ += k S⁻¹ f, only when some force acted: a sum over the stored
+        //    rows of S⁻¹ for the active nodes, or one DST when the obstacle has many nodes.
         if total != 0.0 {
             self.stats.contact_steps += 1;
-            self.force_buf.fill(0.0);
-            for (n, &i) in self.contact_nodes.iter().enumerate() {
-                self.force_buf[i] = self.contact_f[n];
-            }
-            self.map.analysis(&mut self.force_buf);
-            for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
-                *d += k * f;
+            let m = self.q.len();
+            if self.rows.is_empty() {
+                self.force_buf.fill(0.0);
+                for (n, &i) in self.contact_nodes.iter().enumerate() {
+                    self.force_buf[i] = self.contact_f[n];
+                }
+                self.map.analysis(&mut self.force_buf);
+                for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
+                    *d += k * f;
+                }
+            } else {
+                for (n, &f) in self.contact_f.iter().enumerate() {
+                    if f != 0.0 {
+                        let row = &self.rows[n * m..(n + 1) * m];
+                        for (d, r) in self.dq_next.iter_mut().zip(row) {
+                            *d += k * f * r;
+                        }
+                    }
+                }
             }
         }
         // 5. Energy accounts: h·2μs(δ_t.q)² and h·F δ_t.q with δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
