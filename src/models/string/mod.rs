@@ -58,7 +58,7 @@ pub mod transform;
 pub use contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 pub use excitation::{StrikeForce, TrianglePluck};
 pub use losses::{Losses, ValetteLosses};
-pub use model::{StiffString, StringConfig, ROW_LIMIT};
+pub use model::{StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};
 pub use obstacle::{Obstacle, SitarBridge};
 pub use output::{OutputChannel, Quantity, Readout};
 pub use params::{Stiffness, StringParams};

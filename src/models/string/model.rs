@@ -16,6 +16,10 @@ use crate::render::source::{EnergyTerms, RenderSource};
 /// `ROW_LIMIT · N_m` values); with more nodes the modal contact force goes through a DST.
 pub const ROW_LIMIT: usize = 64;
 
+/// Largest number of simultaneously active contact nodes for which the stored rows are used;
+/// beyond it one DST (about `8 N log₂N` flops) is cheaper than `active · N` multiply-adds.
+pub const ROW_ACTIVE_LIMIT: usize = 8;
+
 /// Everything needed to build a [`StiffString`].
 ///
 /// Built on the control thread.
@@ -281,6 +285,7 @@ impl StiffString {
         self.map.synthesis(&mut self.u_next);
         // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i.
         let mut total = 0.0;
+        let mut active = 0usize;
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
             let eta_prev = g - self.u_prev[i];
@@ -292,6 +297,7 @@ impl StiffString {
             if sol.force != 0.0 {
                 self.u_next[i] += k * sol.force;
                 total += sol.force;
+                active += 1;
                 let pen = g - self.u_next[i];
                 if pen > self.stats.max_penetration {
                     self.stats.max_penetration = pen;
@@ -300,11 +306,11 @@ impl StiffString {
         }
         self.obstacle_force = total * self.params.dx();
         // 4. Modal correction Δ += k S⁻¹ f, only when some force acted: a sum over the stored
-        //    rows of S⁻¹ for the active nodes, or one DST when the obstacle has many nodes.
+        //    rows of S⁻¹ for a few active nodes, or one DST otherwise.
         if total != 0.0 {
             self.stats.contact_steps += 1;
             let m = self.q.len();
-            if self.rows.is_empty() {
+            if self.rows.is_empty() || active > ROW_ACTIVE_LIMIT {
                 self.force_buf.fill(0.0);
                 for (n, &i) in self.contact_nodes.iter().enumerate() {
                     self.force_buf[i] = self.contact_f[n];
