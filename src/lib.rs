@@ -15,10 +15,9 @@
 //!   closed-form solutions the schemes are checked against;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
 //! - [`modal`]: dimensionless modal bases of plates (Φ, Ψ) and their coupling tensors;
-//! - [`models`]: the instrument models (the modal von Kármán plate);
+//! - [`models`]: the instrument models (modal von Kármán plate, stiff string with contact);
 //! - [`scene`], [`render`]: scene files and the offline render loop (WAV, resampling);
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
-//! - [`plot`]: PNG figures (waveforms, energies, phase portraits);
 //! - [`modal_rect`]: modal data of the simply supported rectangular von Kármán plate (closed-form
 //!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
 //! - [`error`]: the parameter error type every constructor returns.

@@ -1,0 +1,100 @@
+//! Wall time of the stiff-string model per simulated second.
+//!
+//! - `string_2mhz/Nm`: one lossy string against the sitar bridge at fs = 2 MHz (the lecture's
+//!   rate), 2 ms simulated per iteration (4000 steps): wall time per simulated second =
+//!   reported time × 500.
+//! - `string_8x48k/Nm`: eight such strings (a polyphonic instrument) at 48 kHz, 10 ms each per
+//!   iteration (8 × 480 steps): wall time per simulated second of the 8 voices = reported
+//!   time × 100; real time needs that below 1 s.
+//!
+//! Throughput is reported in simulation steps per second. Every string is plucked once before
+//! timing and keeps ringing (and touching its bridge) across iterations.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use noether::models::string::{
+    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
+    StringConfig, StringParams, TrianglePluck, ValetteLosses,
+};
+use noether::render::source::RenderSource;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Requested mode counts; each is raised to the next FFT-friendly grid
+/// ([`StringParams::smooth_intervals`]): N_m = 53, 104, 209, 503, 1007.
+const MODES: [usize; 5] = [50, 100, 200, 500, 1000];
+
+fn intervals(modes: usize) -> usize {
+    StringParams::smooth_intervals(modes + 1)
+}
+
+fn string(modes: usize, fs: f64) -> StiffString {
+    let mut s = StiffString::new(&StringConfig {
+        params: StringParams::lecture_guitar(intervals(modes), fs),
+        losses: Losses::Valette(ValetteLosses::default()),
+        obstacle: Obstacle::Sitar(SitarBridge {
+            position: 0.0,
+            curvature: 0.2,
+            height: 0.0,
+            extent: 0.02,
+        }),
+        contact: ContactLaw::lecture(),
+        outputs: vec![
+            OutputChannel::Pickup {
+                position: 0.37,
+                quantity: Quantity::Velocity,
+                readout: Readout::Grid,
+            },
+            OutputChannel::ObstacleForce,
+        ],
+    })
+    .expect("valid bench parameters");
+    s.pluck(&TrianglePluck {
+        position: 0.3,
+        amplitude: 1e-3,
+    })
+    .expect("valid pluck");
+    s
+}
+
+fn bench_2mhz(c: &mut Criterion) {
+    let mut g = c.benchmark_group("string_2mhz");
+    g.sample_size(10).measurement_time(Duration::from_secs(4));
+    let steps = 4000;
+    g.throughput(Throughput::Elements(steps as u64));
+    for &m in &MODES {
+        let mut s = string(m, 2_000_000.0);
+        let mut out = vec![vec![0.0; steps]; s.channels()];
+        g.bench_with_input(BenchmarkId::from_parameter(intervals(m) - 1), &m, |b, _| {
+            b.iter(|| {
+                s.process(&mut out, steps);
+                black_box(out[0][steps - 1])
+            })
+        });
+    }
+    g.finish();
+}
+
+fn bench_8x48k(c: &mut Criterion) {
+    let mut g = c.benchmark_group("string_8x48k");
+    g.sample_size(10).measurement_time(Duration::from_secs(3));
+    let steps = 480;
+    g.throughput(Throughput::Elements(8 * steps as u64));
+    for &m in &MODES {
+        let mut voices: Vec<StiffString> = (0..8).map(|_| string(m, 48_000.0)).collect();
+        let mut out = vec![vec![0.0; steps]; 2];
+        g.bench_with_input(BenchmarkId::from_parameter(intervals(m) - 1), &m, |b, _| {
+            b.iter(|| {
+                let mut acc = 0.0;
+                for v in voices.iter_mut() {
+                    v.process(&mut out, steps);
+                    acc += out[0][steps - 1];
+                }
+                black_box(acc)
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_2mhz, bench_8x48k);
+criterion_main!(benches);

@@ -1,0 +1,503 @@
+//! The stiff string model: build, initial conditions, the time step, energy and outputs.
+//! See the module doc of [`crate::models::string`] for the scheme and its energy proof.
+
+use super::contact::{solve_point, ContactLaw, ContactStats};
+use super::exact::{exact_first_increment, ModeCoefficients};
+use super::excitation::{StrikeForce, TrianglePluck};
+use super::losses::Losses;
+use super::obstacle::Obstacle;
+use super::output::{FieldView, OutputChannel, ResolvedOutput};
+use super::params::StringParams;
+use super::transform::ModalMap;
+use crate::error::ParamError;
+use crate::render::source::{EnergyTerms, RenderSource};
+
+/// Largest number of obstacle nodes for which the rows of `S⁻¹` are stored (memory
+/// `ROW_LIMIT · N_m` values); with more nodes the modal contact force goes through a DST.
+pub const ROW_LIMIT: usize = 64;
+
+/// Largest number of simultaneously active contact nodes for which the stored rows are used;
+/// beyond it one DST (about `8 N log₂N` flops) is cheaper than `active · N` multiply-adds.
+pub const ROW_ACTIVE_LIMIT: usize = 8;
+
+/// Everything needed to build a [`StiffString`].
+///
+/// Built on the control thread.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StringConfig {
+    /// String and grid parameters.
+    pub params: StringParams,
+    /// Modal damping.
+    pub losses: Losses,
+    /// Obstacle profile (sampled on the grid at build).
+    pub obstacle: Obstacle,
+    /// Penalty contact law (ignored without obstacle, validated always).
+    pub contact: ContactLaw,
+    /// Output channels, in order.
+    pub outputs: Vec<OutputChannel>,
+}
+
+/// Stiff string against a unilateral obstacle, modal exact scheme with pointwise
+/// discrete-gradient contact (Issanchou et al., JSV 2017; SEED.md 3.2).
+///
+/// Lifecycle: [`StiffString::new`] (control thread: validates, allocates every buffer, plans
+/// the DST), then [`StiffString::reset`], [`StiffString::pluck`], [`StiffString::strike`] and
+/// [`StiffString::step`] / `process`, which never allocate and do bounded work (one or two
+/// DSTs, at most `NEWTON_CAP` iterations per obstacle node), so they may run on the audio
+/// thread. Owned by one thread at a time.
+#[derive(Debug)]
+pub struct StiffString {
+    /// Validated parameters (read-only after build).
+    params: StringParams,
+    /// Time step `h` in s.
+    h: f64,
+    /// `k = h²/μ` in m·s²/kg (maps a force density in N/m to a displacement in m).
+    k: f64,
+    /// Per-mode scheme coefficients.
+    coeffs: Vec<ModeCoefficients>,
+    /// Damping `σ_j` in s⁻¹.
+    sigma: Vec<f64>,
+    /// Energy weight of `(Δ^{n+1})²`: `μ(1 + c̃ + c)/(8h²)` in J/m³ (modal coordinates are in
+    /// m^3/2, so a squared one is in m³).
+    w_kin: Vec<f64>,
+    /// Energy weight of `(q^{n+1} + q^n)²`: `μβ/(8h²)` in J/m³.
+    w_pot: Vec<f64>,
+    /// Dissipation weight of `(Δ^{n+1} + Δ^n)²` per step: `μ s/(2h)` in J/m³.
+    w_diss: Vec<f64>,
+    /// Whether any mode is damped.
+    lossy: bool,
+    /// The DST-based map `u = S q`.
+    map: ModalMap,
+    /// `q^{n+1}` (m^3/2).
+    q: Vec<f64>,
+    /// `Δ^{n+1} = q^{n+1} - q^n` (m^3/2).
+    dq: Vec<f64>,
+    /// Scratch: the new increment during a step.
+    dq_next: Vec<f64>,
+    /// `u^{n+1}` at interior nodes (m).
+    u_now: Vec<f64>,
+    /// `u^n` at interior nodes (m).
+    u_prev: Vec<f64>,
+    /// Scratch: `u^{n+2}` during a step (m).
+    u_next: Vec<f64>,
+    /// Scratch: nodal contact forces transformed to modal forces.
+    force_buf: Vec<f64>,
+    /// Obstacle nodes (0-based interior index `i - 1`).
+    contact_nodes: Vec<usize>,
+    /// Obstacle heights `g_i` at those nodes (m).
+    contact_g: Vec<f64>,
+    /// Contact force densities `f_i` of the last step at those nodes (N/m).
+    contact_f: Vec<f64>,
+    /// Rows of `S⁻¹` at the obstacle nodes, `rows[n·N_m + j-1] = Δx φ_j(x_i)` (m^1/2), kept
+    /// when there are at most [`ROW_LIMIT`] obstacle nodes (empty otherwise): the modal force
+    /// of a few active nodes is then a sum over those rows, cheaper than a DST.
+    rows: Vec<f64>,
+    /// Contact law.
+    law: ContactLaw,
+    /// Solver counters.
+    stats: ContactStats,
+    /// Energy dissipated since the initial condition (J).
+    dissipated: f64,
+    /// Work of the external force since the initial condition (J).
+    work: f64,
+    /// Active force excitation, if any.
+    strike: Option<StrikeForce>,
+    /// Time since the strike's onset at the next step, in s.
+    strike_time: f64,
+    /// `φ_j(x_e)` of the active strike (m^-1/2).
+    strike_shape: Vec<f64>,
+    /// Resolved output channels.
+    outputs: Vec<ResolvedOutput>,
+    /// Total obstacle force of the last step (N).
+    obstacle_force: f64,
+    /// Steps since the last initial condition.
+    steps: u64,
+}
+
+impl StiffString {
+    /// Validates `config`, computes the modal coefficients and allocates every buffer.
+    pub fn new(config: &StringConfig) -> Result<Self, ParamError> {
+        let p = &config.params;
+        p.validate()?;
+        config.contact.validate()?;
+        let m = p.modes();
+        let (h, mu) = (p.h(), p.linear_density);
+        let mut sigma = vec![0.0; m];
+        config.losses.sigmas(p, &mut sigma)?;
+        let coeffs: Vec<ModeCoefficients> = (0..m)
+            .map(|j| ModeCoefficients::new(p.omega(j + 1), sigma[j], h))
+            .collect();
+        let samples = config.obstacle.sample(p)?;
+        let outputs = config
+            .outputs
+            .iter()
+            .enumerate()
+            .map(|(i, o)| o.resolve(p, i))
+            .collect::<Result<Vec<_>, _>>()?;
+        let h2 = h * h;
+        Ok(Self {
+            params: p.clone(),
+            h,
+            k: h2 / mu,
+            w_kin: coeffs
+                .iter()
+                .map(|c| mu * (2.0 + 2.0 * c.c_tilde - c.beta) / (8.0 * h2))
+                .collect(),
+            w_pot: coeffs.iter().map(|c| mu * c.beta / (8.0 * h2)).collect(),
+            w_diss: coeffs.iter().map(|c| mu * c.s / (2.0 * h)).collect(),
+            lossy: sigma.iter().any(|&s| s > 0.0),
+            sigma,
+            coeffs,
+            map: ModalMap::new(p.length, p.intervals),
+            q: vec![0.0; m],
+            dq: vec![0.0; m],
+            dq_next: vec![0.0; m],
+            u_now: vec![0.0; m],
+            u_prev: vec![0.0; m],
+            u_next: vec![0.0; m],
+            force_buf: vec![0.0; m],
+            contact_nodes: samples.iter().map(|s| s.0).collect(),
+            contact_g: samples.iter().map(|s| s.1).collect(),
+            contact_f: vec![0.0; samples.len()],
+            rows: if samples.len() <= ROW_LIMIT {
+                samples
+                    .iter()
+                    .flat_map(|&(i, _)| {
+                        let x = (i + 1) as f64 * p.dx();
+                        (1..=m).map(move |j| p.dx() * p.mode_shape(j, x))
+                    })
+                    .collect()
+            } else {
+                Vec::new()
+            },
+            law: config.contact,
+            stats: ContactStats::default(),
+            dissipated: 0.0,
+            work: 0.0,
+            strike: None,
+            strike_time: 0.0,
+            strike_shape: vec![0.0; m],
+            outputs,
+            obstacle_force: 0.0,
+            steps: 0,
+        })
+    }
+
+    /// Puts the string at rest (`q = Δ = 0`), clears the counters, the energy accounts and any
+    /// active strike. No allocation.
+    pub fn reset(&mut self) {
+        for v in [&mut self.q, &mut self.dq, &mut self.u_now, &mut self.u_prev] {
+            v.fill(0.0);
+        }
+        self.contact_f.fill(0.0);
+        self.stats = ContactStats::default();
+        self.dissipated = 0.0;
+        self.work = 0.0;
+        self.strike = None;
+        self.strike_time = 0.0;
+        self.obstacle_force = 0.0;
+        self.steps = 0;
+    }
+
+    /// Resets, then sets the initial modal displacement `q(0) = q0` and velocity `q̇(0) = v0`
+    /// (`len = N - 1` each) and takes the exact free first step, so the stored state is
+    /// `(q^1, q^0)`: without contact and damping the samples are exactly
+    /// `q_j^n = q0_j cos(ω_j nh) + v0_j sin(ω_j nh)/ω_j`. No allocation.
+    ///
+    /// # Panics
+    /// If the slices do not have length `N - 1`.
+    pub fn set_modal_state(&mut self, q0: &[f64], v0: &[f64]) {
+        assert!(q0.len() == self.q.len() && v0.len() == self.q.len());
+        self.reset();
+        let h = self.h;
+        for j in 0..self.q.len() {
+            let om = self.params.omega(j + 1);
+            let sg = self.sigma[j];
+            let d = exact_first_increment(om, sg, h, q0[j], v0[j]);
+            self.dq[j] = d;
+            self.q[j] = q0[j] + d;
+        }
+        self.u_prev.copy_from_slice(q0);
+        self.map.synthesis(&mut self.u_prev);
+        self.u_now.copy_from_slice(&self.q);
+        self.map.synthesis(&mut self.u_now);
+    }
+
+    /// Resets and sets the lecture's triangular pluck (zero velocity): `q(0) = S⁻¹ u0` of the
+    /// sampled triangle. No allocation (uses the model's scratch).
+    pub fn pluck(&mut self, pluck: &TrianglePluck) -> Result<(), ParamError> {
+        pluck.validate(&self.params)?;
+        let dx = self.params.dx();
+        let mut q0 = std::mem::take(&mut self.u_next);
+        let mut v0 = std::mem::take(&mut self.force_buf);
+        for (i, x) in q0.iter_mut().enumerate() {
+            *x = pluck.displacement(self.params.length, (i + 1) as f64 * dx);
+        }
+        self.map.analysis(&mut q0);
+        v0.fill(0.0);
+        self.set_modal_state(&q0, &v0);
+        self.u_next = q0;
+        self.force_buf = v0;
+        Ok(())
+    }
+
+    /// Starts a raised-cosine force at the next step (replacing any active one); the string
+    /// keeps its current motion. O(N) (evaluates `φ_j(x_e)` into a preallocated buffer), no
+    /// allocation: callable from the audio thread.
+    pub fn strike(&mut self, force: &StrikeForce) -> Result<(), ParamError> {
+        force.validate(&self.params)?;
+        for (j, s) in self.strike_shape.iter_mut().enumerate() {
+            *s = self.params.mode_shape(j + 1, force.position);
+        }
+        self.strike = Some(*force);
+        self.strike_time = 0.0;
+        Ok(())
+    }
+
+    /// Advances one step `n → n+1` (see the module doc for the algorithm).
+    pub fn step(&mut self) {
+        let k = self.k;
+        // 1. Free update (difference form of the exact scheme) plus the external modal force.
+        let fe = match self.strike {
+            Some(s) => {
+                let f = s.force(self.strike_time);
+                self.strike_time += self.h;
+                if self.strike_time > s.duration {
+                    self.strike = None;
+                }
+                f
+            }
+            None => 0.0,
+        };
+        for j in 0..self.q.len() {
+            let c = &self.coeffs[j];
+            self.dq_next[j] = c.c_tilde * self.dq[j] - c.beta * self.q[j];
+        }
+        if fe != 0.0 {
+            for (d, s) in self.dq_next.iter_mut().zip(&self.strike_shape) {
+                *d += k * fe * s;
+            }
+        }
+        // 2. Free grid displacement u_free = S (q + Δ_free).
+        for ((u, q), d) in self.u_next.iter_mut().zip(&self.q).zip(&self.dq_next) {
+            *u = q + d;
+        }
+        self.map.synthesis(&mut self.u_next);
+        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i.
+        let mut total = 0.0;
+        let mut active = 0usize;
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            let eta_prev = g - self.u_prev[i];
+            let b = (g - self.u_next[i]) - eta_prev;
+            let sol = solve_point(&self.law, eta_prev, b, k);
+            self.stats.histogram[sol.iterations] += 1;
+            self.stats.cap_hits += u64::from(sol.capped);
+            self.contact_f[n] = sol.force;
+            if sol.force != 0.0 {
+                self.u_next[i] += k * sol.force;
+                total += sol.force;
+                active += 1;
+                let pen = g - self.u_next[i];
+                if pen > self.stats.max_penetration {
+                    self.stats.max_penetration = pen;
+                }
+            }
+        }
+        self.obstacle_force = total * self.params.dx();
+        // 4. Modal correction Δ += k S⁻¹ f, only when some force acted: a sum over the stored
+        //    rows of S⁻¹ for a few active nodes, or one DST otherwise.
+        if total != 0.0 {
+            self.stats.contact_steps += 1;
+            let m = self.q.len();
+            if self.rows.is_empty() || active > ROW_ACTIVE_LIMIT {
+                self.force_buf.fill(0.0);
+                for (n, &i) in self.contact_nodes.iter().enumerate() {
+                    self.force_buf[i] = self.contact_f[n];
+                }
+                self.map.analysis(&mut self.force_buf);
+                for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
+                    *d += k * f;
+                }
+            } else {
+                for (n, &f) in self.contact_f.iter().enumerate() {
+                    if f != 0.0 {
+                        let row = &self.rows[n * m..(n + 1) * m];
+                        for (d, r) in self.dq_next.iter_mut().zip(row) {
+                            *d += k * f * r;
+                        }
+                    }
+                }
+            }
+        }
+        // 5. Energy accounts: h·2μs(δ_t.q)² and h·F δ_t.q with δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
+        if self.lossy {
+            let mut d = 0.0;
+            for j in 0..self.q.len() {
+                let v = self.dq_next[j] + self.dq[j];
+                d += self.w_diss[j] * v * v;
+            }
+            self.dissipated += d;
+        }
+        if fe != 0.0 {
+            let mut w = 0.0;
+            for j in 0..self.q.len() {
+                w += self.strike_shape[j] * (self.dq_next[j] + self.dq[j]);
+            }
+            self.work += 0.5 * fe * w;
+        }
+        // 6. Rotate.
+        for (q, d) in self.q.iter_mut().zip(&self.dq_next) {
+            *q += d;
+        }
+        std::mem::swap(&mut self.dq, &mut self.dq_next);
+        std::mem::swap(&mut self.u_prev, &mut self.u_now);
+        std::mem::swap(&mut self.u_now, &mut self.u_next);
+        self.steps += 1;
+    }
+
+    /// The discrete energy terms at the current state `(n+1, n)` (O(N), no allocation):
+    /// kinetic `Σ μ(1+c̃+c)/(8h²) (Δ^{n+1})²`, linear `Σ μβ/(8h²) (q^{n+1}+q^n)²`, nonlinear
+    /// (contact) `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2`, dissipated and work accumulated so far.
+    pub fn energy_terms(&self) -> EnergyTerms {
+        let (mut kin, mut pot) = (0.0, 0.0);
+        for j in 0..self.q.len() {
+            let d = self.dq[j];
+            let s = 2.0 * self.q[j] - d;
+            kin += self.w_kin[j] * d * d;
+            pot += self.w_pot[j] * s * s;
+        }
+        let mut psi = 0.0;
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            psi += self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
+        }
+        EnergyTerms {
+            kinetic: kin,
+            linear: pot,
+            nonlinear: 0.5 * psi * self.params.dx(),
+            dissipated: self.dissipated,
+            work: self.work,
+        }
+    }
+
+    /// Value of every output channel at the current state, written to `out[c]`.
+    pub fn read_outputs(&self, mut write: impl FnMut(usize, f64)) {
+        let view = FieldView {
+            u_now: &self.u_now,
+            u_prev: &self.u_prev,
+            q: &self.q,
+            dq: &self.dq,
+            h: self.h,
+            obstacle_force: self.obstacle_force,
+        };
+        for (c, o) in self.outputs.iter().enumerate() {
+            write(c, o.read(&view));
+        }
+    }
+
+    /// Writes channel `c` of the current state to `out[c][n]` (`out.len() >= channels`).
+    pub fn write_outputs(&self, out: &mut [Vec<f64>], n: usize) {
+        self.read_outputs(|c, v| out[c][n] = v);
+    }
+
+    /// Validated parameters.
+    pub fn params(&self) -> &StringParams {
+        &self.params
+    }
+
+    /// Per-mode damping `σ_j` in s⁻¹ (`j - 1` indexed).
+    pub fn sigmas(&self) -> &[f64] {
+        &self.sigma
+    }
+
+    /// Per-mode scheme coefficients (`j - 1` indexed).
+    pub fn coefficients(&self) -> &[ModeCoefficients] {
+        &self.coeffs
+    }
+
+    /// Modal coordinates `q^{n+1}` (m^3/2).
+    pub fn modal_displacement(&self) -> &[f64] {
+        &self.q
+    }
+
+    /// Grid displacement `u^{n+1}` at nodes `1..N-1` (m).
+    pub fn grid_displacement(&self) -> &[f64] {
+        &self.u_now
+    }
+
+    /// Contact solver counters.
+    pub fn contact_stats(&self) -> &ContactStats {
+        &self.stats
+    }
+
+    /// Number of obstacle nodes in the contact solve.
+    pub fn contact_node_count(&self) -> usize {
+        self.contact_nodes.len()
+    }
+
+    /// Total force on the obstacle at the last step (N).
+    pub fn obstacle_force(&self) -> f64 {
+        self.obstacle_force
+    }
+
+    /// Steps since the last initial condition.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// Number of output channels.
+    pub fn output_count(&self) -> usize {
+        self.outputs.len()
+    }
+}
+
+impl RenderSource for StiffString {
+    fn sim_rate(&self) -> f64 {
+        self.params.sample_rate
+    }
+
+    fn channels(&self) -> usize {
+        self.outputs.len()
+    }
+
+    fn process(&mut self, out: &mut [Vec<f64>], frames: usize) {
+        for n in 0..frames {
+            self.step();
+            self.write_outputs(out, n);
+        }
+    }
+
+    fn energy(&self) -> EnergyTerms {
+        self.energy_terms()
+    }
+
+    fn is_conservative(&self) -> bool {
+        true
+    }
+
+    fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
+        let s = &self.stats;
+        let mut m = serde_json::Map::new();
+        m.insert("modes".into(), self.q.len().into());
+        m.insert("obstacle_nodes".into(), self.contact_nodes.len().into());
+        m.insert("contact_steps".into(), s.contact_steps.into());
+        m.insert("newton_max_iterations".into(), s.max_iterations().into());
+        m.insert("newton_cap_hits".into(), s.cap_hits.into());
+        m.insert(
+            "newton_mean_iterations_in_contact".into(),
+            s.mean_iterations_in_contact().into(),
+        );
+        m.insert("max_penetration_m".into(), s.max_penetration.into());
+        let last = s.max_iterations();
+        m.insert(
+            "newton_histogram".into(),
+            s.histogram[..=last]
+                .iter()
+                .map(|&c| c.into())
+                .collect::<Vec<serde_json::Value>>()
+                .into(),
+        );
+        m
+    }
+}
