@@ -271,10 +271,13 @@ fn draw_panel(
     }
     let pad = |lo: f64, hi: f64| {
         let span = hi - lo;
+        // A constant series gets a band of ±50 % of its value (±1 around zero).
         let m = if span > 0.0 {
             0.05 * span
+        } else if lo != 0.0 {
+            0.5 * lo.abs()
         } else {
-            0.5 * lo.abs().max(1e-300)
+            1.0
         };
         (lo - m, hi + m)
     };

@@ -62,6 +62,13 @@ pub struct PlateInfo {
     pub scheme: String,
 }
 
+/// Dimensionless modal data of a plate: `λ²` (Φ), `ζ⁴` (Ψ), the coupling tensor, the mode
+/// evaluator `Φ_s` at a scene position, and what the cache did.
+type ModalData = (Vec<f64>, Vec<f64>, CouplingTensor, ModeEvaluator, String);
+
+/// `Φ_s(position)` of the unit-size plate.
+type ModeEvaluator = Box<dyn Fn(usize, &Position) -> f64>;
+
 fn map_err(e: ParamError) -> String {
     e.to_string()
 }
@@ -93,13 +100,7 @@ impl PlateVoice {
         let start = std::time::Instant::now();
         let nu = scene.material.poisson;
         let linear_only = scene.n_psi == 0;
-        let (lambda2, zeta4, coupling, phi_at, cache): (
-            Vec<f64>,
-            Vec<f64>,
-            CouplingTensor,
-            Box<dyn Fn(usize, &Position) -> f64>,
-            String,
-        ) = match scene.shape {
+        let (lambda2, zeta4, coupling, phi_at, cache): ModalData = match scene.shape {
             PlateShape::CircularFree | PlateShape::CircularClamped => {
                 let edge = if scene.shape == PlateShape::CircularFree {
                     CircularEdge::Free
