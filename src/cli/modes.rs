@@ -3,6 +3,7 @@
 
 use clap::{Args, ValueEnum};
 use noether::modal::{circular_modes, omega_scale, CircularEdge, Parity};
+use noether::modal_rect::transverse_modes;
 use serde::Serialize;
 
 /// Plate families.
@@ -12,6 +13,8 @@ pub enum PlateArg {
     CircularFree,
     /// Circular plate, clamped edge.
     CircularClamped,
+    /// Rectangular plate, simply supported (sides lx and lx * aspect).
+    RectSs,
 }
 
 /// Arguments of `noether modes`.
@@ -27,6 +30,12 @@ pub struct ModesArgs {
     /// Poisson's ratio nu (0 to 0.5).
     #[arg(long, default_value_t = 0.3)]
     pub nu: f64,
+    /// Rectangle: side ratio ly / lx (0.05 to 20).
+    #[arg(long, default_value_t = 1.5)]
+    pub aspect: f64,
+    /// Rectangle: side lx in m.
+    #[arg(long, default_value_t = 0.4)]
+    pub lx: f64,
     /// Radius (circular plates) in m.
     #[arg(long, default_value_t = 0.4)]
     pub radius: f64,
@@ -49,7 +58,7 @@ pub struct ModesArgs {
 struct Row {
     index: usize,
     label: String,
-    /// λ² = ω a² √(ρh/D).
+    /// λ² = ω a² √(ρh/D) (a: radius, or lx for rectangles).
     lambda2: f64,
     frequency_hz: f64,
 }
@@ -68,29 +77,57 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
             a.nu
         ));
     }
-    let edge = match a.plate {
-        PlateArg::CircularFree => CircularEdge::Free,
-        PlateArg::CircularClamped => CircularEdge::Clamped,
-    };
-    let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)
-        .map_err(|e| e.to_string())?;
-    let rows: Vec<Row> = circular_modes(edge, a.nu, a.count)
-        .iter()
-        .enumerate()
-        .map(|(i, m)| {
-            let l2 = m.radial.lambda * m.radial.lambda;
-            let p = match m.parity {
-                Parity::Cos => "cos",
-                Parity::Sin => "sin",
+    let rows: Vec<Row> = match a.plate {
+        PlateArg::CircularFree | PlateArg::CircularClamped => {
+            let edge = if matches!(a.plate, PlateArg::CircularFree) {
+                CircularEdge::Free
+            } else {
+                CircularEdge::Clamped
             };
-            Row {
-                index: i + 1,
-                label: format!("({},{}) {p}", m.n, m.k),
-                lambda2: l2,
-                frequency_hz: l2 * scale / std::f64::consts::TAU,
+            let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)
+                .map_err(|e| e.to_string())?;
+            circular_modes(edge, a.nu, a.count)
+                .iter()
+                .enumerate()
+                .map(|(i, m)| {
+                    let l2 = m.radial.lambda * m.radial.lambda;
+                    let p = match m.parity {
+                        Parity::Cos => "cos",
+                        Parity::Sin => "sin",
+                    };
+                    Row {
+                        index: i + 1,
+                        label: format!("({},{}) {p}", m.n, m.k),
+                        lambda2: l2,
+                        frequency_hz: l2 * scale / std::f64::consts::TAU,
+                    }
+                })
+                .collect()
+        }
+        PlateArg::RectSs => {
+            if !(a.aspect.is_finite() && (0.05..=20.0).contains(&a.aspect)) {
+                return Err(format!(
+                    "invalid value for `--aspect`: {} (allowed: [0.05, 20])",
+                    a.aspect
+                ));
             }
-        })
-        .collect();
+            // Same scaling as the circle with the radius replaced by lx.
+            let scale = omega_scale(a.lx, a.thickness, a.youngs_modulus, a.density, a.nu)
+                .map_err(|e| e.to_string())?;
+            let (labels, lambda2) = transverse_modes(a.aspect, a.count);
+            labels
+                .iter()
+                .zip(lambda2)
+                .enumerate()
+                .map(|(i, (&(m, n), l2))| Row {
+                    index: i + 1,
+                    label: format!("({m},{n})"),
+                    lambda2: l2,
+                    frequency_hz: l2 * scale / std::f64::consts::TAU,
+                })
+                .collect()
+        }
+    };
     if a.json {
         println!(
             "{}",
@@ -98,17 +135,21 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
         );
     } else {
         println!(
-            "{} plate, nu = {}, a = {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",
-            edge.name(),
+            "{:?} plate, nu = {}, size {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",
+            a.plate,
             a.nu,
-            a.radius,
+            if matches!(a.plate, PlateArg::RectSs) {
+                a.lx
+            } else {
+                a.radius
+            },
             a.thickness,
             a.youngs_modulus,
             a.density
         );
         println!(
             "{:>6} {:>14} {:>16} {:>14}",
-            "index", "(n,k)", "lambda^2", "f (Hz)"
+            "index", "label", "lambda^2", "f (Hz)"
         );
         for r in rows {
             println!(

@@ -44,6 +44,7 @@ mod legendre;
 mod transverse;
 
 pub use coupling::CouplingTriplets;
+pub use transverse::lowest_modes as transverse_modes;
 
 use crate::error::{check_closed, ParamError};
 

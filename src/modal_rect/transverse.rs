@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 /// The first `n_phi` mode labels `(m, n)` and `λ² = ω` sorted by increasing frequency, ties
 /// broken by increasing `m` (so the order is deterministic; a degenerate pair can be split by
 /// the truncation at `n_phi`).
-pub(crate) fn lowest_modes(aspect: f64, n_phi: usize) -> (Vec<(u32, u32)>, Vec<f64>) {
+pub fn lowest_modes(aspect: f64, n_phi: usize) -> (Vec<(u32, u32)>, Vec<f64>) {
     let omega = |m: u32, n: u32| {
         let (m, n) = (f64::from(m), f64::from(n) / aspect);
         PI * PI * (m * m + n * n)

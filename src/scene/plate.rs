@@ -82,6 +82,12 @@ pub enum Damping {
         /// Quality factor Q (1 to 1e7).
         q: f64,
     },
+    /// The same 60 dB decay time for every mode: `c_p = 2 ln(1000) / T60` (the energy of a
+    /// mode decays as `e^{-c t}`, its amplitude as `e^{-c t/2}`).
+    T60 {
+        /// Decay time T60 in seconds (1e-3 to 1e4).
+        seconds: f64,
+    },
 }
 
 /// A point on the plate: `r` (fraction of the radius, 0 to 1) and `angle` (rad) on circular
@@ -164,6 +170,18 @@ pub enum Excitation {
         at: Position,
         /// Impulse in N·s (0 to 1e3).
         impulse: f64,
+    },
+    /// Initial modal state: transverse mode `mode` (1-based, in frequency order) starts with
+    /// displacement `displacement` and velocity `velocity` (modal coordinates: with normalised
+    /// modes, `w = Φ q`, so `q` is in m·m).
+    Initial {
+        /// Mode index, 1 to N_Φ.
+        mode: usize,
+        /// Initial modal displacement q(0) (|q| ≤ 1).
+        displacement: f64,
+        /// Initial modal velocity q̇(0) (|q̇| ≤ 1e4 per second).
+        #[serde(default)]
+        velocity: f64,
     },
 }
 
@@ -274,6 +292,9 @@ impl PlateScene {
             Damping::Q { q } => {
                 check_closed("plate.damping.q", q, 1.0, 1e7)?;
             }
+            Damping::T60 { seconds } => {
+                check_closed("plate.damping.seconds", seconds, 1e-3, 1e4)?;
+            }
         }
         match self.excitation {
             Excitation::Strike {
@@ -288,6 +309,21 @@ impl PlateScene {
             Excitation::Impulse { at, impulse } => {
                 at.validate(self.shape, "plate.excitation.at")?;
                 check_closed("plate.excitation.impulse", impulse, 0.0, 1e3)?;
+            }
+            Excitation::Initial {
+                mode,
+                displacement,
+                velocity,
+            } => {
+                if !(1..=self.n_phi).contains(&mode) {
+                    return Err(ParamError::new(
+                        "plate.excitation.mode",
+                        mode,
+                        format!("1 to n_phi = {}", self.n_phi),
+                    ));
+                }
+                check_closed("plate.excitation.displacement", displacement, -1.0, 1.0)?;
+                check_closed("plate.excitation.velocity", velocity, -1e4, 1e4)?;
             }
         }
         if self.pickups.len() > 64 {

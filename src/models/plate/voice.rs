@@ -158,6 +158,7 @@ impl PlateVoice {
             Damping::None => vec![0.0; omega.len()],
             Damping::Power { a, b, c0 } => damping_law(&omega, a, b, c0).map_err(map_err)?,
             Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
+            Damping::T60 { seconds } => vec![2.0 * 1000f64.ln() / seconds; omega.len()],
         };
         let scheme = match scene.scheme {
             SceneScheme::Conservative => PlateScheme::ConservativeTheta1,
@@ -190,6 +191,16 @@ impl PlateVoice {
                 ForceSignal::Strike(RaisedCosine::new(duration, peak_force).map_err(map_err)?),
             ),
             Excitation::Impulse { at, .. } => (at, ForceSignal::None),
+            // No force: the strike weights are unused (the centre is a valid placeholder).
+            Excitation::Initial { .. } => (
+                Position {
+                    r: Some(0.0),
+                    x: Some(0.5),
+                    y: Some(0.5),
+                    ..Position::default()
+                },
+                ForceSignal::None,
+            ),
         };
         let pickups = scene
             .effective_pickups()
@@ -206,21 +217,31 @@ impl PlateVoice {
         let nnz = coupling.nnz();
         let strike_weights = weights(&at);
         // A Dirac impulse J at x0 is the initial velocity q̇_s(0) = J Φ_s(x0) / ρh.
-        let initial_velocity: Option<Vec<f64>> = match scene.excitation {
-            Excitation::Impulse { impulse, .. } => Some(
+        let initial_state: Option<(Vec<f64>, Vec<f64>)> = match scene.excitation {
+            Excitation::Impulse { impulse, .. } => Some((
+                vec![0.0; strike_weights.len()],
                 strike_weights
                     .iter()
                     .map(|w| impulse * w / scene.surface_density())
                     .collect(),
-            ),
+            )),
+            Excitation::Initial {
+                mode,
+                displacement,
+                velocity,
+            } => {
+                let mut q0 = vec![0.0; strike_weights.len()];
+                let mut v0 = q0.clone();
+                q0[mode - 1] = displacement;
+                v0[mode - 1] = velocity;
+                Some((q0, v0))
+            }
             Excitation::Strike { .. } => None,
         };
         let mut model = PlateModel::new(&params, Arc::new(coupling), strike_weights, pickups)
             .map_err(|e| format!("plate: {e}"))?;
-        if let Some(v0) = initial_velocity {
-            model
-                .set_state(&vec![0.0; v0.len()], &v0)
-                .map_err(map_err)?;
+        if let Some((q0, v0)) = initial_state {
+            model.set_state(&q0, &v0).map_err(map_err)?;
         }
         let two_pi = std::f64::consts::TAU;
         let info = PlateInfo {
