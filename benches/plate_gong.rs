@@ -1,0 +1,74 @@
+//! Cost of the gong (real Bessel modal data, sparse tensor) per step, against N_Φ and scheme,
+//! and the cost of the modal precomputation.
+//!
+//! `cargo bench --bench plate_gong`. The README's table quotes criterion medians; a simulated
+//! second at fs costs `fs ×` the per-step time.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use noether::modal::{CircularEdge, CircularPlateSpec, PlateModes};
+use noether::models::plate::voice::PlateVoice;
+use noether::render::source::RenderSource;
+use noether::scene::Scene;
+use std::hint::black_box;
+
+const STEPS: usize = 32;
+
+fn voice(n_phi: usize, n_psi: usize, scheme: &str) -> PlateVoice {
+    let text = format!(
+        r#"
+[output]
+sample_rate = 48000
+seconds = 1.0
+[plate]
+shape = "circular-free"
+radius = 0.4
+thickness = 0.001
+n_phi = {n_phi}
+n_psi = {n_psi}
+sim_rate = 40000
+scheme = "{scheme}"
+damping = {{ law = "power", a = 0.005, b = 0.6 }}
+excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.001, peak_force = 80.0 }}
+"#
+    );
+    let scene = Scene::from_toml(&text, "bench", &[]).unwrap();
+    PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
+}
+
+fn steps(c: &mut Criterion) {
+    let mut g = c.benchmark_group("gong-step");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(STEPS as u64));
+    for (n_phi, n_psi) in [(50, 15), (100, 30), (200, 60), (400, 100), (1000, 300)] {
+        for scheme in ["conservative", "conservative-exact", "stormer-verlet"] {
+            let mut v = voice(n_phi, n_psi, scheme);
+            let mut out = vec![vec![0.0; STEPS]; v.channels()];
+            // Past the strike, into the free decay.
+            for _ in 0..4 {
+                v.process(&mut out, STEPS);
+            }
+            g.bench_function(format!("{scheme}/{n_phi}x{n_psi}"), |b| {
+                b.iter(|| {
+                    v.process(&mut out, STEPS);
+                    black_box(out[0][STEPS - 1])
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+fn precompute(c: &mut Criterion) {
+    let mut g = c.benchmark_group("gong-precompute");
+    g.sample_size(10);
+    for (n_phi, n_psi) in [(100, 30), (1000, 300)] {
+        let spec = CircularPlateSpec::new(CircularEdge::Free, 0.3, n_phi, n_psi, None).unwrap();
+        g.bench_function(format!("{n_phi}x{n_psi}"), |b| {
+            b.iter(|| black_box(PlateModes::build(&spec).unwrap().coupling.nnz()))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, steps, precompute);
+criterion_main!(benches);
