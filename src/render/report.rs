@@ -3,7 +3,7 @@
 use super::offline::{EnergyStats, Rendered};
 use crate::analysis::spectrogram::spectrogram;
 use crate::plot::spectrogram::write_spectrogram_png;
-use crate::plot::{write_png, Panel, Scale, Series};
+use crate::plot::{write_png, Panel, Series};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -127,10 +127,25 @@ pub fn write_plots(
     let tt: Vec<f64> = (0..ch.len()).map(|n| n as f64 / out_rate as f64).collect();
     let wave =
         Panel::new("pickup 1", "t (s)", "output").push(Series::line("", tt.clone(), ch.clone()));
-    let level: Vec<f64> = ch.iter().map(|x| x.abs().max(1e-300)).collect();
-    let env = Panel::new("level", "t (s)", "|output|")
-        .scales(Scale::Linear, Scale::Log10)
-        .push(Series::line("", tt, level));
+    // RMS level over 10 ms frames, in dB relative to the loudest frame, floored at -160 dB.
+    let frame = (out_rate as usize / 100).max(1);
+    let rms: Vec<f64> = ch
+        .chunks(frame)
+        .map(|c| (c.iter().map(|x| x * x).sum::<f64>() / c.len() as f64).sqrt())
+        .collect();
+    let loudest = rms
+        .iter()
+        .fold(0.0f64, |m, &x| m.max(x))
+        .max(f64::MIN_POSITIVE);
+    let db: Vec<f64> = rms
+        .iter()
+        .map(|&r| (20.0 * (r / loudest).log10()).max(-160.0))
+        .collect();
+    let t_frames: Vec<f64> = (0..db.len())
+        .map(|k| (k * frame) as f64 / out_rate as f64)
+        .collect();
+    let env = Panel::new("level (10 ms RMS)", "t (s)", "dB re loudest frame")
+        .push(Series::line("", t_frames, db));
     let path = dir.join(format!("{stem}-waveform.png"));
     write_png(
         &path,
