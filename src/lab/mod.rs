@@ -164,6 +164,27 @@ impl Summary {
 }
 
 impl Trace {
+    /// An empty trace with room for `n` samples in every series.
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            t: Vec::with_capacity(n),
+            u: Vec::with_capacity(n),
+            v: Vec::with_capacity(n),
+            energy: Vec::with_capacity(n),
+            dissipated: Vec::with_capacity(n),
+            ..Self::default()
+        }
+    }
+
+    /// Appends one sample: time, displacement, velocity, energy, dissipated energy.
+    pub fn push(&mut self, t: f64, u: f64, v: f64, energy: f64, dissipated: f64) {
+        self.t.push(t);
+        self.u.push(u);
+        self.v.push(v);
+        self.energy.push(energy);
+        self.dissipated.push(dissipated);
+    }
+
     /// The conserved quantity `energy + dissipated` at every step.
     pub fn balance(&self) -> Vec<f64> {
         self.energy

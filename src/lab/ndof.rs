@@ -121,20 +121,9 @@ fn integrate(
     let mut stepper = build_method_for_system(method, system)?;
     let mut y = y0.to_vec();
     let kept = (steps / stride + 1) as usize;
-    let mut tr = Trace {
-        t: Vec::with_capacity(kept),
-        u: Vec::with_capacity(kept),
-        v: Vec::with_capacity(kept),
-        energy: Vec::with_capacity(kept),
-        dissipated: vec![0.0; kept],
-        ..Trace::default()
-    };
-    let mut push = |y: &[f64], k: u64| {
-        tr.t.push(k as f64 * h);
-        tr.u.push(y[0]);
-        tr.v.push(y[n]);
-        tr.energy.push(system.hamiltonian(y));
-    };
+    let mut tr = Trace::with_capacity(kept);
+    let mut push =
+        |y: &[f64], k: u64| tr.push(k as f64 * h, y[0], y[n], system.hamiltonian(y), 0.0);
     push(&y, 0);
     for k in 1..=steps {
         stepper.step(system, h, &mut y);

@@ -248,22 +248,17 @@ fn record(
     stride: u64,
 ) -> (Trace, StepperStats) {
     let kept = (steps / stride + 1) as usize;
-    let mut tr = Trace {
-        t: Vec::with_capacity(kept),
-        u: Vec::with_capacity(kept),
-        v: Vec::with_capacity(kept),
-        energy: Vec::with_capacity(kept),
-        dissipated: Vec::with_capacity(kept),
-        ..Trace::default()
-    };
+    let mut tr = Trace::with_capacity(kept);
     stepper.reset(u0, v0);
     let h = stepper.step_size();
     let mut push = |s: &dyn OscillatorStepper, n: u64| {
-        tr.t.push(n as f64 * h);
-        tr.u.push(s.displacement());
-        tr.v.push(s.velocity());
-        tr.energy.push(s.discrete_energy());
-        tr.dissipated.push(s.dissipated_energy());
+        tr.push(
+            n as f64 * h,
+            s.displacement(),
+            s.velocity(),
+            s.discrete_energy(),
+            s.dissipated_energy(),
+        )
     };
     push(stepper, 0);
     for n in 1..=steps {
