@@ -1,7 +1,7 @@
 //! Rendering a whole [`Scene`]: build its model, run it, and fill the report.
 
 use super::offline::{render, Rendered};
-use super::report::RenderReport;
+use super::report::{spectral_centroid, RenderReport};
 use super::source::RenderSource;
 use crate::models::plate::voice::PlateVoice;
 use crate::scene::Scene;
@@ -46,6 +46,15 @@ pub fn render_scene(
         peak: s.peak,
         wall_seconds: s.wall_seconds,
         realtime_factor: s.realtime_factor,
+        spectral_centroid_hz: {
+            let ch = &rendered.out[0];
+            let n = (scene.output.sample_rate as usize / 10).min(ch.len());
+            let rate = scene.output.sample_rate as f64;
+            [
+                spectral_centroid(&ch[..n], rate),
+                spectral_centroid(&ch[ch.len() - n..], rate),
+            ]
+        },
         details: voice.report_extras(),
     };
     Ok((rendered, report))
