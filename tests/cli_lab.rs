@@ -212,3 +212,36 @@ fn every_subcommand_has_help() {
         assert!(ok && out.contains("Usage"), "{args:?}");
     }
 }
+
+/// `noether modes`: the gong's first elastic modes are the (2,0) cos/sin pair (λ² = 5.3583 for
+/// ν = 0.3, Leissa's free-plate table rounds to 5.36 at ν = 0.33 and our own root is checked to
+/// 1e-13 in tests/modal_circular.rs); the lecture's 0.4 × 0.6 m plate has f_100 = 1400 Hz
+/// (SEED.md 3.1, closed form π²((m/Lx)² + (n/Ly)²) √(D/ρh) / 2π, to the lecture's 4 digits).
+#[test]
+fn modes_lists_labels_and_frequencies() {
+    let (ok, out, err) = noether(&[
+        "modes",
+        "--plate",
+        "circular-free",
+        "--count",
+        "5",
+        "--json",
+    ]);
+    assert!(ok, "{err}");
+    let rows: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    assert_eq!(rows[0]["label"], "(2,0) cos");
+    assert_eq!(rows[1]["label"], "(2,0) sin");
+    assert!((rows[0]["lambda2"].as_f64().unwrap() - 5.35833).abs() < 1e-5);
+    let (ok, out, err) = noether(&[
+        "modes", "--plate", "rect-ss", "--lx", "0.4", "--aspect", "1.5", "--count", "100", "--json",
+    ]);
+    assert!(ok, "{err}");
+    let rows: serde_json::Value = serde_json::from_str(out.trim()).unwrap();
+    let f100 = rows[99]["frequency_hz"].as_f64().unwrap();
+    assert!((f100 - 1400.0).abs() < 1.0, "{f100}");
+    let (ok, _, err) = noether(&["modes", "--plate", "rect-ss", "--aspect", "0"]);
+    assert!(
+        !ok && err.contains("--aspect") && err.contains("0"),
+        "{err}"
+    );
+}
