@@ -32,34 +32,10 @@ impl GaussLegendre {
                 format!("integer in [1, {}]", Self::MAX_POINTS),
             ));
         }
-        let q = points;
-        let mut nodes = vec![0.0; q];
-        let mut weights = vec![0.0; q];
-        let qf = q as f64;
-        for k in 0..q.div_ceil(2) {
-            // k-th root from the top on [-1, 1]
-            let mut x = (std::f64::consts::PI * (k as f64 + 0.75) / (qf + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (p, d) = legendre(q, x);
-                dp = d;
-                let dx = p / d;
-                x -= dx;
-                if dx.abs() <= 1e-16 * x.abs().max(1e-3) {
-                    break;
-                }
-            }
-            let (_, d) = legendre(q, x);
-            if d != 0.0 {
-                dp = d;
-            }
-            let w = 2.0 / ((1.0 - x * x) * dp * dp);
-            // map [-1, 1] -> [0, 1]; x > 0 is the upper half
-            nodes[q - 1 - k] = 0.5 * (1.0 + x);
-            nodes[k] = 0.5 * (1.0 - x);
-            weights[q - 1 - k] = 0.5 * w;
-            weights[k] = 0.5 * w;
-        }
+        let (t, w) = gauss_legendre_symmetric(points);
+        // map [-1, 1] -> [0, 1]
+        let nodes = t.iter().map(|t| 0.5 * (1.0 + t)).collect();
+        let weights = w.iter().map(|w| 0.5 * w).collect();
         Ok(Self { nodes, weights })
     }
 
@@ -72,6 +48,41 @@ impl GaussLegendre {
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
+}
+
+/// Gauss-Legendre nodes (increasing) and weights on `[-1, 1]` with `n` points, exact for
+/// polynomials of degree `2n - 1`: Newton on `P_n` from Tricomi's initial guesses
+/// (Abramowitz & Stegun 25.4.29), symmetric by construction, middle node exactly 0 for odd `n`.
+///
+/// The one Gauss-Legendre rule of the crate: [`GaussLegendre`] maps it to `[0, 1]` for the
+/// circular plate, the rectangular plate's Galerkin integrals use it directly. Worker thread;
+/// allocates.
+pub fn gauss_legendre_symmetric(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut nodes = vec![0.0; n];
+    let mut weights = vec![0.0; n];
+    let nf = n as f64;
+    for k in 0..n.div_ceil(2) {
+        // k-th root from the top
+        let mut x = (std::f64::consts::PI * (k as f64 + 0.75) / (nf + 0.5)).cos();
+        for _ in 0..100 {
+            let (p, d) = legendre(n, x);
+            let dx = p / d;
+            x -= dx;
+            if dx.abs() <= 1e-16 * x.abs().max(1e-3) {
+                break;
+            }
+        }
+        if n % 2 == 1 && k == n / 2 {
+            x = 0.0;
+        }
+        let (_, dp) = legendre(n, x);
+        let w = 2.0 / ((1.0 - x * x) * dp * dp);
+        nodes[n - 1 - k] = x;
+        nodes[k] = -x;
+        weights[n - 1 - k] = w;
+        weights[k] = w;
+    }
+    (nodes, weights)
 }
 
 /// `(P_q(x), P_q'(x))` by the three-term recurrence.

@@ -1,5 +1,5 @@
-//! Gauss-Legendre quadrature and the Legendre-Galerkin basis for fourth-order problems with
-//! clamped ends (Shen's basis).
+//! The Legendre-Galerkin basis for fourth-order problems with clamped ends (Shen's basis), and
+//! the Gauss-Legendre rule it is integrated with (shared with the circular plate).
 //!
 //! J. Shen, "Efficient spectral-Galerkin method I. Direct solvers of second- and fourth-order
 //! equations using Legendre polynomials", SIAM J. Sci. Comput. 15(6), 1994, eq. (2.11)-(2.13):
@@ -10,58 +10,7 @@
 //! Everything here is called while building modal data on a worker thread, never on the audio
 //! thread.
 
-/// Gauss-Legendre nodes and weights on `[-1, 1]` with `n` points (exact for polynomials of
-/// degree `2n - 1`), by Newton iteration on `L_n` from Tricomi's initial guesses.
-///
-/// Nodes are returned in increasing order. Built on a worker thread.
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut nodes = vec![0.0; n];
-    let mut weights = vec![0.0; n];
-    let nf = n as f64;
-    for i in 0..n.div_ceil(2) {
-        // Initial guess for the (i+1)-th largest root.
-        let theta = std::f64::consts::PI * (i as f64 + 0.75) / (nf + 0.5);
-        let mut t = (1.0 - (nf - 1.0) / (8.0 * nf * nf * nf)) * theta.cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (p, d) = legendre_and_derivative(n, t);
-            dp = d;
-            let dt = p / d;
-            t -= dt;
-            if dt.abs() <= 1e-16 * t.abs().max(1.0) {
-                let (_, d) = legendre_and_derivative(n, t);
-                dp = d;
-                break;
-            }
-        }
-        let w = 2.0 / ((1.0 - t * t) * dp * dp);
-        nodes[n - 1 - i] = t;
-        nodes[i] = -t;
-        weights[n - 1 - i] = w;
-        weights[i] = w;
-    }
-    if n % 2 == 1 {
-        nodes[n / 2] = 0.0;
-    }
-    (nodes, weights)
-}
-
-/// `(L_n(t), L_n'(t))` by the three-term recurrence.
-fn legendre_and_derivative(n: usize, t: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (1.0, t);
-    if n == 0 {
-        return (1.0, 0.0);
-    }
-    for k in 1..n {
-        let kf = k as f64;
-        let p2 = ((2.0 * kf + 1.0) * t * p1 - kf * p0) / (kf + 1.0);
-        p0 = p1;
-        p1 = p2;
-    }
-    let nf = n as f64;
-    // L_n' = n (t L_n - L_{n-1}) / (t² - 1), valid at interior points.
-    (p1, nf * (t * p1 - p0) / (t * t - 1.0))
-}
+pub use crate::modal::quadrature::gauss_legendre_symmetric as gauss_legendre;
 
 /// Values, first and second derivatives of `L_0 .. L_{n-1}` at `t`, written into the three
 /// slices (each of length `n`). Derivatives use `L_{k+1}' = L_{k-1}' + (2k+1) L_k` and
