@@ -155,9 +155,12 @@ mod tests {
     }
 
     fn coupling() -> Arc<DenseCoupling> {
-        Arc::new(DenseCoupling::from_fn(3, 2, |l, i, j| {
-            0.1 * (1 + l + i + j) as f64 / (1 + (i as i64 - j as i64).unsigned_abs()) as f64
-        }))
+        Arc::new(
+            DenseCoupling::from_fn(3, 2, |l, i, j| {
+                0.1 * (1 + l + i + j) as f64 / (1 + (i as i64 - j as i64).unsigned_abs()) as f64
+            })
+            .unwrap(),
+        )
     }
 
     /// A model retuned to parameters P must step exactly (bit for bit) like a model built with
