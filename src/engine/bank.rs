@@ -40,12 +40,15 @@ pub const STRING_VELOCITY_REF: f64 = 4.0;
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
 
+/// A cached rectangle: (aspect bits, N_Φ, N_Ψ), modes, tensor.
+type RectEntry = ((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>);
+
 /// Dimensionless modal data kept between builds on the worker thread (a bank rebuilt for a
 /// new strike position reuses the basis and tensor of the previous one).
 #[derive(Default)]
 pub struct ModalCache {
     circular: Option<(CircularPlateSpec, Arc<PlateModes>, Arc<CouplingTensor>)>,
-    rect: Option<((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>)>,
+    rect: Option<RectEntry>,
 }
 
 impl std::fmt::Debug for ModalCache {

@@ -290,7 +290,7 @@ impl ParamValues {
         let mut k = *self;
         let string = self.index_of(ParamId::Model) >= 3;
         for p in PARAMS {
-            if !p.rebuild && !(string && p.id == ParamId::Size) {
+            if !(p.rebuild || string && p.id == ParamId::Size) {
                 k.0[p.id.index()] = 0.0;
             }
         }
