@@ -26,6 +26,7 @@
 //! `step`, so they can run on an audio thread once built.
 
 pub mod analysis;
+pub mod engine;
 pub mod error;
 pub mod lab;
 pub mod modal;

@@ -509,3 +509,6 @@ fn free_response_backward(omega: f64, c: f64, h: f64, q0: f64, v0: f64) -> f64 {
     // C is even and S odd in t.
     (sigma * h).exp() * (q0 * cc - (v0 + sigma * q0) * ss)
 }
+
+mod retune;
+pub use retune::Unstable;

@@ -501,3 +501,5 @@ impl RenderSource for StiffString {
         m
     }
 }
+
+mod retune;

@@ -1,0 +1,344 @@
+//! The voice bank: every voice of the pool, built for one parameter set (model, quality,
+//! positions, polyphony) and one host rate, plus the bank's resampler and simulation scratch.
+//!
+//! Built on the worker thread ([`Bank::build`], which may take seconds for large bases: modal
+//! data come from the on-disk cache of [`crate::modal`] and an in-memory [`ModalCache`]);
+//! moved to the audio thread through the bank queue; the replaced bank goes back to the worker
+//! to be dropped.
+
+use super::kinds::{Material, ModelKind};
+use super::params::{ParamId, ParamValues};
+use super::resample::Resampler;
+use super::telemetry::SNAPSHOT_POINTS;
+use super::voice::{PlateData, PlateVoice, StringVoice, Voice, VoiceModel};
+use crate::error::ParamError;
+use crate::modal::{
+    default_cache_dir, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
+};
+use crate::modal_rect::{RectModes, RectSpec};
+use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
+use crate::models::string::params::Stiffness;
+use crate::models::string::{
+    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
+    StringConfig, StringParams, ValetteLosses,
+};
+use std::sync::Arc;
+
+/// Host-rate samples per internal chunk: events, parameter reads and bank swaps happen on
+/// chunk boundaries at the latest, and the simulation scratch is sized for one chunk.
+pub const CHUNK: usize = 64;
+
+/// Output normalisation of plates: the pickups read velocity (m/s), divided by this
+/// reference so that the default gong struck at velocity 1 peaks near -6 dBFS (measured by
+/// `tests/engine.rs::default_gong_level`).
+pub const PLATE_VELOCITY_REF: f64 = 1.0;
+
+/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] for the sitar preset.
+pub const STRING_VELOCITY_REF: f64 = 1.0;
+
+/// Steel density used to derive a string's diameter from its linear density (air losses).
+const STRING_STEEL_DENSITY: f64 = 7850.0;
+
+/// Dimensionless modal data kept between builds on the worker thread (a bank rebuilt for a
+/// new strike position reuses the basis and tensor of the previous one).
+#[derive(Default)]
+pub struct ModalCache {
+    circular: Option<(CircularPlateSpec, Arc<PlateModes>, Arc<CouplingTensor>)>,
+    rect: Option<((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>)>,
+}
+
+impl std::fmt::Debug for ModalCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ModalCache")
+            .field("circular", &self.circular.as_ref().map(|c| c.0))
+            .field("rect", &self.rect.as_ref().map(|r| r.0))
+            .finish()
+    }
+}
+
+/// A bank of voices for one parameter set and host rate.
+pub(crate) struct Bank {
+    /// Identifier (increments with every build).
+    pub id: u64,
+    pub kind: ModelKind,
+    /// Simulation rate (Hz).
+    pub sim_rate: f64,
+    /// Host rate it was built for (Hz).
+    pub host_rate: f64,
+    pub voices: Vec<Voice>,
+    pub resampler: Resampler,
+    pub sim_l: Vec<f32>,
+    pub sim_r: Vec<f32>,
+    /// Output scale (1 / velocity reference).
+    pub norm: f64,
+}
+
+fn rect_key(aspect: f64, nf: usize, np: usize) -> (u64, usize, usize) {
+    (aspect.to_bits(), nf, np)
+}
+
+/// Converts the rectangle's triplets to the CSR layout (as `models::plate::voice`).
+fn rect_tensor(m: &RectModes) -> Result<CouplingTensor, ParamError> {
+    let t = &m.coupling;
+    let mut row_start = vec![0u32; t.n_psi + 1];
+    for &l in &t.l {
+        row_start[l as usize + 1] += 1;
+    }
+    for l in 0..t.n_psi {
+        row_start[l + 1] += row_start[l];
+    }
+    CouplingTensor::from_parts(
+        t.n_phi,
+        t.n_psi,
+        row_start,
+        t.i.clone(),
+        t.j.clone(),
+        t.value.clone(),
+    )
+}
+
+impl ModalCache {
+    fn circular(
+        &mut self,
+        spec: CircularPlateSpec,
+    ) -> Result<(Arc<PlateModes>, Arc<CouplingTensor>), ParamError> {
+        if let Some((s, m, c)) = &self.circular {
+            if *s == spec {
+                return Ok((m.clone(), c.clone()));
+            }
+        }
+        let (modes, _) = PlateModes::load_or_build(&spec, &default_cache_dir())?;
+        let coupling = Arc::new(modes.coupling.clone());
+        let modes = Arc::new(modes);
+        self.circular = Some((spec, modes.clone(), coupling.clone()));
+        Ok((modes, coupling))
+    }
+
+    fn rect(
+        &mut self,
+        aspect: f64,
+        nf: usize,
+        np: usize,
+    ) -> Result<(Arc<RectModes>, Arc<CouplingTensor>), ParamError> {
+        let key = rect_key(aspect, nf, np);
+        if let Some((k, m, c)) = &self.rect {
+            if *k == key {
+                return Ok((m.clone(), c.clone()));
+            }
+        }
+        let modes = RectModes::build(&RectSpec::new(aspect, nf, np))
+            .map_err(|e| ParamError::new("modes", nf, format!("a buildable basis ({e})")))?;
+        let coupling = Arc::new(rect_tensor(&modes)?);
+        let modes = Arc::new(modes);
+        self.rect = Some((key, modes.clone(), coupling.clone()));
+        Ok((modes, coupling))
+    }
+}
+
+/// Unit-plate position of a polar parameter pair: circular `(r, θ)`; rectangle
+/// `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the sides).
+fn phi_values(
+    kind: ModelKind,
+    circ: Option<&PlateModes>,
+    rect: Option<&RectModes>,
+    n: usize,
+    r: f64,
+    angle: f64,
+) -> Vec<f64> {
+    (0..n)
+        .map(|s| match (kind, circ, rect) {
+            (ModelKind::RectPlate, _, Some(m)) => {
+                m.phi_at(s, 0.5 + 0.5 * r * angle.cos(), 0.5 + 0.5 * r * angle.sin())
+            }
+            (_, Some(m), _) => m.phi_at(s, r, angle),
+            _ => 0.0,
+        })
+        .collect()
+}
+
+impl Bank {
+    /// Builds the bank for `v` at `host_rate` (worker thread; allocates, may take seconds).
+    pub fn build(
+        v: &ParamValues,
+        host_rate: f64,
+        cache: &mut ModalCache,
+        id: u64,
+    ) -> Result<Bank, ParamError> {
+        crate::error::check_closed("host_rate", host_rate, 8000.0, 768_000.0)?;
+        let kind = ModelKind::from_params(v);
+        let sim_rate = v.get(ParamId::SimRate) as f64;
+        let voices_n = v.index_of(ParamId::Polyphony).max(1);
+        let modes = v.index_of(ParamId::Modes).max(1);
+        let mut voices = Vec::with_capacity(voices_n);
+        let norm;
+        if kind.is_plate() {
+            norm = 1.0 / PLATE_VELOCITY_REF;
+            let n_psi = v.index_of(ParamId::InPlaneModes);
+            let m = Material::from_params(v);
+            let (lambda2, zeta4, coupling, circ, rect) = match kind {
+                ModelKind::RectPlate => {
+                    let aspect = v.get(ParamId::Aspect) as f64;
+                    let (rm, c) = cache.rect(aspect, modes, n_psi.max(1))?;
+                    (rm.lambda2.clone(), rm.zeta4.clone(), c, None, Some(rm))
+                }
+                _ => {
+                    let edge = if kind == ModelKind::Gong {
+                        CircularEdge::Free
+                    } else {
+                        CircularEdge::Clamped
+                    };
+                    let spec = CircularPlateSpec::new(edge, m.poisson, modes, n_psi.max(1), None)?;
+                    let (pm, c) = cache.circular(spec)?;
+                    (pm.omega.clone(), pm.zeta4.clone(), c, Some(pm), None)
+                }
+            };
+            let nf = lambda2.len();
+            let pv = |r: ParamId, a: ParamId| {
+                phi_values(
+                    kind,
+                    circ.as_deref(),
+                    rect.as_deref(),
+                    nf,
+                    v.get(r) as f64,
+                    v.get(a) as f64,
+                )
+            };
+            let mut snapshot = Vec::with_capacity(SNAPSHOT_POINTS * nf);
+            for p in 0..SNAPSHOT_POINTS {
+                // Along a diameter (circular) or the diagonal (rectangle), ends excluded.
+                let x = -0.95 + 1.9 * p as f64 / (SNAPSHOT_POINTS - 1) as f64;
+                let (r, ang) = if kind == ModelKind::RectPlate {
+                    (
+                        x.abs() * std::f64::consts::SQRT_2,
+                        if x < 0.0 { 1.25 } else { 0.25 },
+                    )
+                } else {
+                    (x.abs(), if x < 0.0 { 1.0 } else { 0.0 })
+                };
+                // Rectangle: ξ = η = ½ + ½ x (the diagonal), since r √2 · cos(π/4) = |x|.
+                let ang = ang * std::f64::consts::PI;
+                snapshot.extend(phi_values(
+                    kind,
+                    circ.as_deref(),
+                    rect.as_deref(),
+                    nf,
+                    r,
+                    ang,
+                ));
+            }
+            let data = Arc::new(PlateData {
+                strike: pv(ParamId::StrikeRadius, ParamId::StrikeAngle),
+                pickups: [
+                    pv(ParamId::PickupLeftPos, ParamId::PickupLeftAngle),
+                    pv(ParamId::PickupRightPos, ParamId::PickupRightAngle),
+                ],
+                snapshot,
+                linear: n_psi == 0,
+                lambda2,
+                zeta4,
+                poisson: m.poisson,
+            });
+            let scheme = match v.index_of(ParamId::Scheme) {
+                0 => PlateScheme::ConservativeTheta1,
+                1 => PlateScheme::ConservativeExact,
+                _ => PlateScheme::StormerVerletExact,
+            };
+            // Built with neutral coefficients (the exact scheme accepts any ω); every note
+            // retunes them in place before it sounds.
+            let params = PlateParams {
+                omega: data.lambda2.iter().map(|_| 1.0).collect(),
+                zeta4: vec![1.0; data.zeta4.len()],
+                rho_h: 1.0,
+                e_h: 1.0,
+                coupling_scale: 0.0,
+                fs: sim_rate,
+                damping: vec![0.0; nf],
+                scheme,
+                solve: LinearSolve::Auto,
+            };
+            for _ in 0..voices_n {
+                let pickups = vec![
+                    Pickup::new(data.pickups[0].clone(), PickupKind::VelocityBackward)?,
+                    Pickup::new(data.pickups[1].clone(), PickupKind::VelocityBackward)?,
+                ];
+                let model =
+                    PlateModel::new(&params, coupling.clone(), data.strike.clone(), pickups)?;
+                voices.push(Voice::new(VoiceModel::Plate(Box::new(PlateVoice::new(
+                    model,
+                    data.clone(),
+                    sim_rate,
+                )))));
+            }
+        } else {
+            norm = 1.0 / STRING_VELOCITY_REF;
+            let length = v.get(ParamId::Size) as f64;
+            let mu = v.get(ParamId::LinearDensity) as f64;
+            let params = StringParams {
+                length,
+                tension: v.get(ParamId::Tension) as f64,
+                linear_density: mu,
+                stiffness: Stiffness::Inharmonicity(v.get(ParamId::Inharmonicity) as f64),
+                diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
+                intervals: modes + 1,
+                sample_rate: sim_rate,
+            };
+            let obstacle = if kind == ModelKind::Sitar {
+                Obstacle::Sitar(SitarBridge {
+                    position: 0.0,
+                    curvature: v.get(ParamId::BridgeCurvature) as f64,
+                    height: 0.0,
+                    extent: v.get(ParamId::BridgePosition) as f64,
+                })
+            } else {
+                Obstacle::Point {
+                    position: v.get(ParamId::BridgePosition) as f64,
+                    height: 0.0,
+                    width: 0.0,
+                }
+            };
+            let pickup = |id: ParamId| OutputChannel::Pickup {
+                position: v.get(id) as f64 * length,
+                quantity: Quantity::Velocity,
+                readout: Readout::Grid,
+            };
+            let losses = ValetteLosses::default();
+            let config = StringConfig {
+                params,
+                losses: Losses::Valette(losses),
+                obstacle,
+                contact: ContactLaw {
+                    stiffness: v.get(ParamId::ContactStiffness) as f64,
+                    exponent: v.get(ParamId::ContactAlpha) as f64,
+                },
+                outputs: vec![
+                    pickup(ParamId::PickupLeftPos),
+                    pickup(ParamId::PickupRightPos),
+                ],
+            };
+            for _ in 0..voices_n {
+                let model = StiffString::new(&config)?;
+                voices.push(Voice::new(VoiceModel::String(Box::new(StringVoice::new(
+                    model, losses,
+                )))));
+            }
+        }
+        let resampler = Resampler::new(sim_rate, host_rate, CHUNK);
+        let max_in = resampler.max_input();
+        Ok(Bank {
+            id,
+            kind,
+            sim_rate,
+            host_rate,
+            voices,
+            resampler,
+            sim_l: vec![0.0; max_in],
+            sim_r: vec![0.0; max_in],
+            norm,
+        })
+    }
+
+    /// Latency of the bank in host samples (the resampler's half-width).
+    pub fn latency_host(&self) -> f64 {
+        self.resampler.latency_input() as f64 * self.host_rate / self.sim_rate
+    }
+}

@@ -1,0 +1,62 @@
+//! Note and controller events (host MIDI, sample-accurate within a block) and GUI commands.
+//!
+//! Plain `Copy` data: built by the host layer or the GUI, consumed by the audio thread.
+
+/// What happens at an [`Event`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EventKind {
+    /// Note on: MIDI key 0..=127, velocity in `(0, 1]` (a velocity of 0 is a note off).
+    NoteOn {
+        /// MIDI key number.
+        key: u8,
+        /// Normalised velocity.
+        velocity: f32,
+    },
+    /// Note off (the voice enters its release, or waits for the sustain pedal).
+    NoteOff {
+        /// MIDI key number.
+        key: u8,
+    },
+    /// Pitch bend, normalised to `[-1, 1]` (scaled by the `pitch_bend_range` parameter).
+    PitchBend(f32),
+    /// Mod wheel, normalised to `[0, 1]`.
+    ModWheel(f32),
+    /// Sustain pedal down (`true`) or up.
+    Sustain(bool),
+    /// Every sounding voice enters its release (MIDI all-notes-off).
+    AllNotesOff,
+    /// Every voice stops at once (MIDI all-sound-off, panic).
+    AllSoundOff,
+}
+
+/// An event at a sample offset inside the block given to
+/// [`Engine::process_events`](super::Engine::process_events).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Event {
+    /// Host-rate sample index in the block at which the event takes effect (events past the
+    /// end of the block apply at its end).
+    pub offset: u32,
+    /// The event.
+    pub kind: EventKind,
+}
+
+impl Event {
+    /// An event at `offset`.
+    pub fn new(offset: u32, kind: EventKind) -> Self {
+        Self { offset, kind }
+    }
+}
+
+/// A command from the GUI (or any control thread) to the audio thread, sent through the
+/// lock-free queue of [`EngineHandle::send`](super::EngineHandle::send) and applied at the
+/// start of the next block.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GuiCommand {
+    /// A note or controller event from the editor's keyboard (applied at the block start).
+    Event(EventKind),
+    /// Puts every voice at rest (like [`Engine::reset`](super::Engine::reset)).
+    Reset,
+    /// Chooses the voice shown by the displacement snapshot and mode spectrum of the
+    /// telemetry (`None`: the loudest).
+    Watch(Option<u8>),
+}

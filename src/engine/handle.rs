@@ -1,0 +1,202 @@
+//! The control side of the engine: [`EngineHandle`] (GUI commands in, telemetry out, worker
+//! status) and the worker thread that builds voice banks.
+//!
+//! The worker polls [`SharedParams`] every few milliseconds; when the values of the
+//! parameters that trigger a rebuild ([`super::ParamInfo::rebuild`]) have changed and stayed
+//! unchanged for [`DEBOUNCE`] (a knob being dragged), it builds a new bank and sends it to the
+//! audio thread through a bounded crossbeam channel (lock-free `try_recv` on the audio side).
+//! Banks the audio thread has replaced come back through a second channel and are dropped
+//! here, never on the audio thread.
+
+use super::bank::{Bank, ModalCache};
+use super::events::GuiCommand;
+use super::params::{ParamValues, SharedParams};
+use super::telemetry::Telemetry;
+use crossbeam_channel::{Receiver, Sender, TrySendError};
+use ringbuf::traits::{Consumer, Producer};
+use ringbuf::{HeapCons, HeapProd};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// How long the rebuild parameters must stay unchanged before the worker builds.
+pub const DEBOUNCE: Duration = Duration::from_millis(30);
+
+/// Worker polling period.
+const POLL: Duration = Duration::from_millis(4);
+
+/// State shared by worker, audio thread and GUI. The audio thread reads only the atomics.
+#[derive(Debug, Default)]
+pub(crate) struct WorkerStatus {
+    /// A build is in progress.
+    pub rebuilding: AtomicBool,
+    /// Banks built by the worker (the activation's own build excluded).
+    pub built: AtomicU64,
+    /// The last build error (worker writes, GUI reads; never the audio thread).
+    pub error: Mutex<Option<String>>,
+}
+
+/// GUI / controller side of an [`Engine`](super::Engine): send commands, read telemetry,
+/// see whether a model is being rebuilt, read the last build error, and reach the shared
+/// parameters. Owned by the GUI or main thread (one owner: the queues are single-producer /
+/// single-consumer). Created with the engine by [`Engine::new`](super::Engine::new).
+pub struct EngineHandle {
+    pub(crate) params: Arc<SharedParams>,
+    pub(crate) commands: HeapProd<GuiCommand>,
+    pub(crate) telemetry: HeapCons<Telemetry>,
+    pub(crate) status: Arc<WorkerStatus>,
+}
+
+impl EngineHandle {
+    /// The parameters the engine reads (write them with [`SharedParams::set`]).
+    pub fn params(&self) -> &Arc<SharedParams> {
+        &self.params
+    }
+
+    /// Queues a command for the audio thread (applied at the start of its next block).
+    /// Lock-free; gives the command back if the queue (256 entries) is full.
+    pub fn send(&mut self, cmd: GuiCommand) -> Result<(), GuiCommand> {
+        self.commands.try_push(cmd)
+    }
+
+    /// The newest telemetry frame, discarding older queued ones (`None` if nothing arrived
+    /// since the last call). Lock-free.
+    pub fn telemetry(&mut self) -> Option<Telemetry> {
+        let mut last = None;
+        while let Some(t) = self.telemetry.try_pop() {
+            last = Some(t);
+        }
+        last
+    }
+
+    /// Whether the worker is building a new voice bank (show "rebuilding" in the editor).
+    pub fn is_rebuilding(&self) -> bool {
+        self.status.rebuilding.load(Ordering::Acquire)
+    }
+
+    /// Number of banks the worker has built since the engine was created.
+    pub fn banks_built(&self) -> u64 {
+        self.status.built.load(Ordering::Acquire)
+    }
+
+    /// The last build error (a [`crate::ParamError`] message naming the parameter, its
+    /// value and the allowed range), cleared by the next successful build.
+    pub fn last_error(&self) -> Option<String> {
+        self.status.error.lock().ok().and_then(|e| e.clone())
+    }
+}
+
+/// The running worker thread (owned by the engine; stopped and joined on deactivate/drop,
+/// which happen on the host's main thread).
+pub(crate) struct Worker {
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+/// Everything the worker thread owns.
+pub(crate) struct WorkerSetup {
+    pub params: Arc<SharedParams>,
+    pub status: Arc<WorkerStatus>,
+    pub host_rate: f64,
+    pub bank_tx: Sender<Box<Bank>>,
+    pub retire_rx: Receiver<Box<Bank>>,
+    pub cache: ModalCache,
+    /// Rebuild key of the bank the audio thread has.
+    pub built_key: ParamValues,
+    /// Identifier of the next bank.
+    pub next_id: u64,
+}
+
+impl Worker {
+    /// Starts the worker thread.
+    pub fn spawn(setup: WorkerSetup) -> std::io::Result<Self> {
+        let stop = Arc::new(AtomicBool::new(false));
+        let s2 = stop.clone();
+        let thread = std::thread::Builder::new()
+            .name("noether-worker".into())
+            .spawn(move || run(setup, &s2))?;
+        Ok(Self {
+            stop,
+            thread: Some(thread),
+        })
+    }
+
+    /// Asks the thread to stop and joins it.
+    pub fn stop(&mut self) {
+        self.stop.store(true, Ordering::Release);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+fn run(mut s: WorkerSetup, stop: &AtomicBool) {
+    let mut pending: Option<(ParamValues, Instant)> = None;
+    while !stop.load(Ordering::Acquire) {
+        while let Ok(old) = s.retire_rx.try_recv() {
+            drop(old);
+        }
+        let v = s.params.snapshot();
+        let key = v.rebuild_key();
+        if key == s.built_key {
+            pending = None;
+        } else {
+            match pending {
+                Some((k, since)) if k == key && since.elapsed() >= DEBOUNCE => {
+                    pending = None;
+                    build_and_send(&mut s, &v, stop);
+                    s.built_key = key;
+                }
+                Some((k, _)) if k == key => {}
+                _ => pending = Some((key, Instant::now())),
+            }
+        }
+        std::thread::sleep(POLL);
+    }
+}
+
+fn build_and_send(s: &mut WorkerSetup, v: &ParamValues, stop: &AtomicBool) {
+    s.status.rebuilding.store(true, Ordering::Release);
+    let id = s.next_id;
+    s.next_id += 1;
+    match Bank::build(v, s.host_rate, &mut s.cache, id) {
+        Ok(bank) => {
+            if let Ok(mut e) = s.status.error.lock() {
+                *e = None;
+            }
+            let mut bank = Box::new(bank);
+            loop {
+                match s.bank_tx.try_send(bank) {
+                    Ok(()) => break,
+                    Err(TrySendError::Disconnected(_)) => break,
+                    Err(TrySendError::Full(b)) => {
+                        // The audio thread has not taken the previous bank yet (or is not
+                        // running): keep dropping returned banks and retry.
+                        bank = b;
+                        if stop.load(Ordering::Acquire) {
+                            break;
+                        }
+                        while let Ok(old) = s.retire_rx.try_recv() {
+                            drop(old);
+                        }
+                        std::thread::sleep(POLL);
+                    }
+                }
+            }
+            s.status.built.fetch_add(1, Ordering::AcqRel);
+        }
+        Err(e) => {
+            if let Ok(mut slot) = s.status.error.lock() {
+                *slot = Some(e.to_string());
+            }
+        }
+    }
+    s.status.rebuilding.store(false, Ordering::Release);
+}

@@ -1,0 +1,102 @@
+//! The real-time engine: a fixed pool of plate or string voices driven by notes, mixed to
+//! stereo and resampled to the host rate, with model building on a worker thread.
+//! No plugin, GUI or audio-device dependency (issue 5, engine side).
+//!
+//! # API summary (stable; later changes are additive)
+//!
+//! ```no_run
+//! use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams, Preset};
+//! use std::sync::Arc;
+//!
+//! let params = Arc::new(SharedParams::new());                 // host / GUI write, audio reads
+//! Preset::factory_named("gong-40N").unwrap().apply(&params).unwrap();
+//! let (mut engine, mut handle) = Engine::new(params.clone()); // main thread
+//! engine.activate(48_000.0, 512).unwrap();                    // main thread: allocates, starts worker
+//! // audio thread, every block (any length 1..=8192):
+//! let (mut l, mut r) = (vec![0.0f32; 512], vec![0.0f32; 512]);
+//! let events = [Event::new(0, EventKind::NoteOn { key: 60, velocity: 0.8 })];
+//! engine.process_events(&events, &mut l, &mut r);              // sample-accurate events
+//! engine.process(&mut l, &mut r);                              // or no events
+//! // host / GUI thread:
+//! params.set(ParamId::Size, 0.5).unwrap();                     // rescale, no rebuild
+//! params.set(ParamId::Model, 3.0).unwrap();                    // sitar: the worker rebuilds
+//! let _frame = handle.telemetry();                             // energies, levels, CPU, ...
+//! let _busy = handle.is_rebuilding();
+//! ```
+//!
+//! - [`Engine`] (audio thread): [`Engine::new`] → ([`Engine`], [`EngineHandle`]);
+//!   [`Engine::activate`]`(host_rate, max_block)` (22.05-192 kHz; builds the first bank,
+//!   starts the worker; main thread); [`Engine::reset`]; [`Engine::process`] /
+//!   [`Engine::process_events`] (`&[Event]` sorted by offset); direct note calls
+//!   [`Engine::note_on`], [`Engine::note_off`], [`Engine::pitch_bend`], [`Engine::mod_wheel`],
+//!   [`Engine::sustain`]; [`Engine::latency_samples`] for the host; read-outs for tests
+//!   ([`Engine::bank_id`], [`Engine::voice_energy`], [`Engine::active_voices`], ...).
+//! - [`EngineHandle`] (GUI / main thread): [`EngineHandle::send`] a [`GuiCommand`] (ringbuf),
+//!   [`EngineHandle::telemetry`] (newest [`Telemetry`], ringbuf), [`EngineHandle::is_rebuilding`],
+//!   [`EngineHandle::last_error`], [`EngineHandle::params`].
+//! - Parameters: [`PARAMS`] (static table of [`ParamInfo`]: key, name, unit, min, max,
+//!   default, kind, whether it rebuilds), [`ParamId`] (`id as usize` indexes the table),
+//!   [`SharedParams`] (one `AtomicU32` of `f32` bits each; `set` refuses out-of-range values
+//!   with a [`crate::ParamError`]), [`ParamValues`] (a plain copy).
+//! - Presets: [`Preset`] (TOML, keys of the table, enumerations by name),
+//!   [`Preset::factory`] (embedded `assets/presets/*.toml`).
+//!
+//! # Threads and real-time rules
+//!
+//! `process` allocates nothing, takes no lock and does no I/O (checked by
+//! `tests/engine_alloc.rs` with `assert_no_alloc`); its work is bounded: the block is split
+//! into chunks of [`CHUNK`] host samples; each chunk runs every sounding voice for the
+//! simulation steps the resampler needs (at most `ceil(CHUNK · fs_sim / fs_host) + 2R`) and
+//! each step is bounded (plates: one Cholesky of fixed size; strings: at most
+//! [`crate::models::string::NEWTON_CAP`] Newton iterations per contact node, after which the
+//! step completes with the capped iterate and the event is counted in the telemetry).
+//!
+//! Model builds (modal bases and coupling tensors through the on-disk cache, string grids and
+//! obstacles, the voice pool) run on the worker thread started by `activate`: it polls the
+//! parameters whose [`ParamInfo::rebuild`] flag is set, debounces 30 ms, builds a bank and
+//! sends it through a bounded crossbeam channel; the audio thread takes it with `try_recv` at
+//! a chunk boundary, cross-fades the old bank out over 20 ms (sounding notes of the old model
+//! end there) and sends it back through a second channel to be dropped on the worker.
+//! Parameters without the flag (size and thickness of plates, material E and ρ, damping,
+//! tension and inharmonicity, tuning, gain, excitation) apply on the audio thread without a
+//! rebuild: the voices' per-mode coefficients are recomputed in place
+//! ([`crate::models::plate::PlateModel::retune`], [`crate::models::string::StiffString::retune`])
+//! at most every 2 ms while they change.
+//!
+//! # Simulation rate and resampling
+//!
+//! Each bank runs at the `sim_rate` parameter (its quality) and is resampled to the host rate
+//! by a Kaiser-windowed sinc interpolator written here ([`resample`]: why not rubato is
+//! explained there); latency is its half-width, 12 zero crossings (about 0.4 ms at a 32 kHz
+//! simulation rate), reported by [`Engine::latency_samples`].
+//!
+//! # Voices
+//!
+//! Polyphony is fixed per bank (parameter, 1..16). A note takes the voice already playing its
+//! key, else a free voice, else steals the quietest released voice, else the oldest. A voice
+//! ends (and costs nothing more) when its discrete energy falls below [`SILENCE_RATIO`] of its
+//! peak after the excitation; when no voice sounds and the resampler history is zero, the
+//! bank costs only a buffer fill. Note to pitch, release and the physical mapping: [`voice`].
+
+mod audio;
+mod bank;
+mod events;
+mod handle;
+mod kinds;
+pub mod params;
+pub mod preset;
+pub mod resample;
+mod telemetry;
+pub mod voice;
+
+pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO};
+pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
+pub use events::{Event, EventKind, GuiCommand};
+pub use handle::{EngineHandle, DEBOUNCE};
+pub use kinds::{Material, ModelKind};
+pub use params::{
+    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES, PARAMS,
+    PARAM_COUNT, SCHEME_NAMES,
+};
+pub use preset::{Preset, PresetValue};
+pub use telemetry::{Telemetry, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES};

@@ -1,0 +1,406 @@
+//! The engine's parameters: a static metadata table ([`PARAMS`], indexed by [`ParamId`]) and
+//! [`SharedParams`], one `AtomicU32` (the bits of an `f32`) per parameter.
+//!
+//! Threads: the host and the GUI write [`SharedParams`] (any thread, lock-free, wait-free);
+//! the audio thread reads every value once per block ([`SharedParams::snapshot`]); the
+//! engine's worker thread reads the values that trigger a rebuild.
+//!
+//! Values are stored in their physical units (the `unit` column). Enumerations and integers
+//! are stored as `f32` holding an integer (`Model` 0..=4 and so on). [`SharedParams::set`]
+//! refuses out-of-range or non-finite values with a [`ParamError`] naming the parameter, the
+//! value and the range: the host layer clamps and reports, the engine never clamps silently.
+
+use crate::error::ParamError;
+use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
+
+/// How a parameter's value is interpreted (for host and GUI layers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ParamKind {
+    /// A continuous value; `log` suggests a logarithmic control (positive range).
+    Float {
+        /// Whether the range spans decades (a logarithmic knob suits it).
+        log: bool,
+    },
+    /// An integer in `[min, max]`.
+    Int,
+    /// An enumeration: the value is an index into `names` (`min = 0`, `max = names.len() - 1`).
+    Enum {
+        /// Display names, in index order.
+        names: &'static [&'static str],
+    },
+}
+
+/// Metadata of one parameter (a row of [`PARAMS`]); static, read by any thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamInfo {
+    /// The parameter.
+    pub id: ParamId,
+    /// Stable identifier (snake case): preset keys, plugin parameter ids. Never renamed.
+    pub key: &'static str,
+    /// Display name.
+    pub name: &'static str,
+    /// Unit of the stored value (empty for dimensionless and enumerations).
+    pub unit: &'static str,
+    /// Smallest allowed value.
+    pub min: f32,
+    /// Largest allowed value.
+    pub max: f32,
+    /// Default value (the default preset: the gong).
+    pub default: f32,
+    /// Continuous, integer or enumeration.
+    pub kind: ParamKind,
+    /// Whether a change makes the worker rebuild the voice bank (new modal basis, grid,
+    /// rate or voice count). `false`: applied on the audio thread without a rebuild.
+    pub rebuild: bool,
+    /// One-line description, including which models read it.
+    pub help: &'static str,
+}
+
+/// Names of [`ParamId::Model`] values, in index order (see [`ModelKind`](super::ModelKind)).
+pub const MODEL_NAMES: &[&str] = &[
+    "gong (circular, free edge)",
+    "cymbal (circular, clamped edge)",
+    "rectangular plate (simply supported)",
+    "sitar",
+    "tanpura",
+];
+
+/// Names of [`ParamId::Material`] values (see [`Material`](super::Material)).
+pub const MATERIAL_NAMES: &[&str] = &["steel", "bronze", "brass", "aluminium", "custom"];
+
+/// Names of [`ParamId::Scheme`] values (plates; strings always use their exact modal scheme
+/// with Newton contact).
+pub const SCHEME_NAMES: &[&str] = &[
+    "conservative (theta = 1)",
+    "conservative, exact linear part",
+    "Stormer-Verlet (explicit, not conservative)",
+];
+
+macro_rules! params {
+    ($( $id:ident, $key:literal, $name:literal, $unit:literal, $min:expr, $max:expr, $def:expr,
+        $kind:expr, $rebuild:expr, $help:literal; )*) => {
+        /// Identifier of an engine parameter; `id as usize` indexes [`PARAMS`].
+        ///
+        /// Plain `Copy` data used on every thread. New parameters are appended at the end, so
+        /// existing indices and keys stay stable.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[repr(u16)]
+        pub enum ParamId {
+            $(
+                #[doc = $help]
+                $id,
+            )*
+        }
+
+        /// The parameter table, one row per [`ParamId`], in index order.
+        pub const PARAMS: &[ParamInfo] = &[
+            $( ParamInfo {
+                id: ParamId::$id,
+                key: $key,
+                name: $name,
+                unit: $unit,
+                min: $min,
+                max: $max,
+                default: $def,
+                kind: $kind,
+                rebuild: $rebuild,
+                help: $help,
+            }, )*
+        ];
+
+        impl ParamId {
+            /// Every parameter, in index order.
+            pub const ALL: &'static [ParamId] = &[ $( ParamId::$id, )* ];
+        }
+    };
+}
+
+const F: ParamKind = ParamKind::Float { log: false };
+const LOG: ParamKind = ParamKind::Float { log: true };
+const INT: ParamKind = ParamKind::Int;
+
+params! {
+    Model, "model", "Model", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MODEL_NAMES }, true,
+        "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura.";
+    Size, "size", "Size", "m", 0.05, 3.0, 0.4, LOG, false,
+        "Plates: radius (circular) or the side lx (rectangle), a rescale; strings: length, which rebuilds the grid.";
+    Thickness, "thickness", "Thickness", "m", 1.0e-4, 1.0e-2, 1.0e-3, LOG, false,
+        "Plate thickness h (plates only); pitch f is proportional to h / a^2.";
+    Aspect, "aspect", "Aspect ratio", "", 0.2, 5.0, 1.5, F, true,
+        "Rectangular plate: ly / lx (new modal basis).";
+    Material, "material", "Material", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MATERIAL_NAMES }, true,
+        "Plate material preset; 'custom' uses Young's modulus, density and Poisson ratio below.";
+    YoungsModulus, "youngs_modulus", "Young's modulus", "Pa", 1.0e9, 5.0e11, 2.0e11, LOG, false,
+        "E of the custom material (plates).";
+    Density, "density", "Density", "kg/m^3", 500.0, 25000.0, 7860.0, LOG, false,
+        "rho of the custom material (plates).";
+    Poisson, "poisson", "Poisson ratio", "", 0.1, 0.45, 0.3, F, true,
+        "nu of the custom material (plates; the free-edge basis depends on it).";
+    DampingScale, "damping_scale", "Damping", "", 0.0, 20.0, 1.0, F, false,
+        "Multiplies every modal damping coefficient (0: lossless). Plates: the power law below; strings: Issanchou/Valette losses.";
+    DampingA, "damping_a", "Damping a", "s^(b-1)", 0.0, 1.0, 0.005, F, false,
+        "Plate damping law c_s = a omega_s^b + c0: coefficient a.";
+    DampingB, "damping_b", "Damping b", "", 0.0, 2.0, 0.6, F, false,
+        "Plate damping law exponent b.";
+    DampingC0, "damping_c0", "Damping c0", "1/s", 0.0, 100.0, 0.0, F, false,
+        "Plate damping law constant c0.";
+    StrikeRadius, "strike_radius", "Strike position", "", 0.0, 0.99, 0.92, F, true,
+        "Plate strike point: fraction of the radius (circular) or of the half-diagonal from the centre (rectangle).";
+    StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, true,
+        "Plate strike point: polar angle.";
+    StrikeDuration, "strike_duration", "Strike duration", "s", 1.0e-4, 0.05, 0.01, LOG, false,
+        "Raised-cosine strike length (mallet hardness: shorter is harder); plates.";
+    StrikeForce, "strike_force", "Strike force", "N", 0.01, 1000.0, 40.0, LOG, false,
+        "Peak strike force at velocity 1 (plates).";
+    VelocityCurve, "velocity_curve", "Velocity curve", "", 0.0, 4.0, 1.0, F, false,
+        "Force (or pluck amplitude) = value at velocity 1 times velocity^curve.";
+    PickupLeftPos, "pickup_left_pos", "Left pickup position", "", 0.01, 0.99, 0.896, F, true,
+        "Left output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
+    PickupLeftAngle, "pickup_left_angle", "Left pickup angle", "rad", 0.0, 6.2831855, 0.519, F, true,
+        "Left output point: polar angle (plates).";
+    PickupRightPos, "pickup_right_pos", "Right pickup position", "", 0.01, 0.99, 0.7, F, true,
+        "Right output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
+    PickupRightAngle, "pickup_right_angle", "Right pickup angle", "rad", 0.0, 6.2831855, 2.5, F, true,
+        "Right output point: polar angle (plates).";
+    Tension, "tension", "Tension", "N", 1.0, 2000.0, 180.5, LOG, false,
+        "String tension T at the root key (strings).";
+    LinearDensity, "linear_density", "Linear density", "kg/m", 1.0e-4, 0.05, 1.17e-3, LOG, true,
+        "String linear mass density mu (strings).";
+    Inharmonicity, "inharmonicity", "Inharmonicity B", "", 0.0, 1.0e-3, 2.0e-5, F, false,
+        "String inharmonicity B = pi^2 EI / (T L^2) at the root key (strings; 0: ideal string).";
+    BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", 0.0, 50.0, 1.0, F, true,
+        "Sitar bridge g(x) = -curvature x^2 near x = 0 (the lecture's a).";
+    BridgePosition, "bridge_position", "Bridge position", "m", 1.0e-3, 0.1, 6.0e-3, LOG, true,
+        "Tanpura: distance of the point bridge from the end; sitar: length of the curved bridge.";
+    ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", 1.0e3, 1.0e16, 1.0e13, LOG, true,
+        "Penalty contact law K [eta]_+^alpha (strings).";
+    ContactAlpha, "contact_alpha", "Contact exponent alpha", "", 1.0, 4.0, 1.5, F, true,
+        "Penalty contact exponent (strings).";
+    PluckPosition, "pluck_position", "Pluck position", "", 0.02, 0.98, 0.25, F, false,
+        "Triangular pluck apex as a fraction of the length (strings).";
+    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", 1.0e-5, 5.0e-3, 1.0e-3, LOG, false,
+        "Triangular pluck apex displacement at velocity 1 (strings).";
+    Modes, "modes", "Modes", "", 4.0, 400.0, 50.0, INT, true,
+        "Quality: transverse modes N_Phi (plates) or string modes N - 1 (strings).";
+    InPlaneModes, "in_plane_modes", "In-plane modes", "", 0.0, 200.0, 15.0, INT, true,
+        "Quality: in-plane modes N_Psi of plates (0: linear plate).";
+    SimRate, "sim_rate", "Simulation rate", "Hz", 8000.0, 400000.0, 32000.0, LOG, true,
+        "Quality: the models' own time-step rate; resampled to the host rate.";
+    Scheme, "scheme", "Scheme", "", 0.0, 2.0, 1.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
+        "Quality: plate time scheme.";
+    Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true,
+        "Voices in the pool (a rebuild allocates them); the quietest or oldest is stolen.";
+    Gain, "gain", "Output gain", "dB", -60.0, 60.0, 0.0, F, false,
+        "Output gain applied after the pickups' normalisation.";
+    TuningA4, "tuning_a4", "A4 reference", "Hz", 400.0, 480.0, 440.0, F, false,
+        "Tuning reference: all notes scale by tuning_a4 / 440.";
+    RootKey, "root_key", "Root key", "", 0.0, 127.0, 60.0, INT, false,
+        "MIDI key at which the model has its nominal parameters; other keys scale thickness (plates) or tension (strings).";
+    PitchBendRange, "pitch_bend_range", "Pitch bend range", "semitones", 0.0, 24.0, 2.0, F, false,
+        "Full pitch-bend deflection in semitones.";
+    ModWheelDepth, "mod_wheel_depth", "Mod wheel depth", "", 0.0, 1.0, 0.5, F, false,
+        "Mod wheel scales the strike force (plates) or pluck amplitude (strings) by 1 + depth * (2 wheel - 1).";
+    ReleaseT60, "release_t60", "Release T60", "s", 0.02, 60.0, 2.0, LOG, false,
+        "After note-off (and sustain release) every mode decays at least this fast (60 dB in this time).";
+}
+
+/// Number of parameters (rows of [`PARAMS`]).
+pub const PARAM_COUNT: usize = ParamId::ALL.len();
+
+impl ParamId {
+    /// Index into [`PARAMS`] and [`ParamValues`].
+    pub const fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The metadata row of this parameter.
+    pub fn info(self) -> &'static ParamInfo {
+        &PARAMS[self.index()]
+    }
+
+    /// The parameter with stable key `key`, if any.
+    pub fn from_key(key: &str) -> Option<ParamId> {
+        PARAMS.iter().find(|p| p.key == key).map(|p| p.id)
+    }
+
+    /// The parameter at index `i`, if any.
+    pub fn from_index(i: usize) -> Option<ParamId> {
+        ParamId::ALL.get(i).copied()
+    }
+}
+
+impl ParamInfo {
+    /// Checks `value` against this row: finite, within `[min, max]`, integral for integer
+    /// and enumeration parameters. Any thread; no allocation on success.
+    pub fn check(&self, value: f32) -> Result<f32, ParamError> {
+        let integral = !matches!(self.kind, ParamKind::Float { .. });
+        if value.is_finite()
+            && value >= self.min
+            && value <= self.max
+            && (!integral || value.fract() == 0.0)
+        {
+            Ok(value)
+        } else {
+            let what = if integral { "integer" } else { "finite number" };
+            Err(ParamError::new(
+                self.key,
+                value,
+                format!("{what} in [{}, {}] {}", self.min, self.max, self.unit),
+            ))
+        }
+    }
+}
+
+/// A copy of every parameter value (index with [`ParamId::index`] or [`ParamValues::get`]).
+/// Plain data: the audio thread keeps one on its stack or in the engine.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ParamValues(pub [f32; PARAM_COUNT]);
+
+impl ParamValues {
+    /// The table's defaults.
+    pub fn defaults() -> Self {
+        let mut v = [0.0; PARAM_COUNT];
+        for p in PARAMS {
+            v[p.id.index()] = p.default;
+        }
+        Self(v)
+    }
+
+    /// The value of `id`.
+    pub fn get(&self, id: ParamId) -> f32 {
+        self.0[id.index()]
+    }
+
+    /// The value of `id` as an index (enumerations and integers).
+    pub fn index_of(&self, id: ParamId) -> usize {
+        self.0[id.index()].max(0.0) as usize
+    }
+
+    /// Sets `id` after [`ParamInfo::check`].
+    pub fn set(&mut self, id: ParamId, value: f32) -> Result<(), ParamError> {
+        self.0[id.index()] = id.info().check(value)?;
+        Ok(())
+    }
+
+    /// The values of the parameters that trigger a rebuild, in table order, with the others
+    /// zeroed: two snapshots need the same bank iff their rebuild keys are equal.
+    pub fn rebuild_key(&self) -> ParamValues {
+        let mut k = *self;
+        for p in PARAMS {
+            if !p.rebuild {
+                k.0[p.id.index()] = 0.0;
+            }
+        }
+        k
+    }
+}
+
+impl Default for ParamValues {
+    fn default() -> Self {
+        Self::defaults()
+    }
+}
+
+/// Parameter values shared by host, GUI, worker and audio thread: one `AtomicU32` holding the
+/// bits of an `f32` per parameter, plus a change counter.
+///
+/// Share it as `Arc<SharedParams>`. All methods are lock-free and allocation-free (except the
+/// error path of [`Self::set`]); relaxed ordering suffices per value, the counter is
+/// incremented with release ordering after each write.
+#[derive(Debug)]
+pub struct SharedParams {
+    values: [AtomicU32; PARAM_COUNT],
+    generation: AtomicU64,
+}
+
+impl SharedParams {
+    /// Every parameter at its default.
+    pub fn new() -> Self {
+        Self::from_values(&ParamValues::defaults())
+    }
+
+    /// Every parameter from `v` (not checked: build `v` with [`ParamValues::set`]).
+    pub fn from_values(v: &ParamValues) -> Self {
+        Self {
+            values: std::array::from_fn(|i| AtomicU32::new(v.0[i].to_bits())),
+            generation: AtomicU64::new(0),
+        }
+    }
+
+    /// The current value of `id`. Any thread, wait-free.
+    pub fn get(&self, id: ParamId) -> f32 {
+        f32::from_bits(self.values[id.index()].load(Ordering::Relaxed))
+    }
+
+    /// Sets `id` to `value` after [`ParamInfo::check`]; the value is unchanged on error.
+    /// Host or GUI thread (any thread), wait-free.
+    pub fn set(&self, id: ParamId, value: f32) -> Result<(), ParamError> {
+        let v = id.info().check(value)?;
+        self.values[id.index()].store(v.to_bits(), Ordering::Relaxed);
+        self.generation.fetch_add(1, Ordering::Release);
+        Ok(())
+    }
+
+    /// Copies every value (audio thread once per block; worker thread when polling).
+    pub fn snapshot(&self) -> ParamValues {
+        // Acquire pairs with the release increment of `set`.
+        let _ = self.generation.load(Ordering::Acquire);
+        ParamValues(std::array::from_fn(|i| {
+            f32::from_bits(self.values[i].load(Ordering::Relaxed))
+        }))
+    }
+
+    /// Writes every value of `v` (checked first: nothing is written on error).
+    pub fn set_all(&self, v: &ParamValues) -> Result<(), ParamError> {
+        for p in PARAMS {
+            p.check(v.get(p.id))?;
+        }
+        for (slot, x) in self.values.iter().zip(v.0) {
+            slot.store(x.to_bits(), Ordering::Relaxed);
+        }
+        self.generation.fetch_add(1, Ordering::Release);
+        Ok(())
+    }
+
+    /// Number of writes so far (a cheap change detector).
+    pub fn generation(&self) -> u64 {
+        self.generation.load(Ordering::Acquire)
+    }
+}
+
+impl Default for SharedParams {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn table_is_consistent() {
+        for (i, p) in PARAMS.iter().enumerate() {
+            assert_eq!(p.id.index(), i, "{}", p.key);
+            assert!(p.min <= p.default && p.default <= p.max, "{}", p.key);
+            p.check(p.default).unwrap();
+            assert_eq!(ParamId::from_key(p.key), Some(p.id));
+            if let ParamKind::Enum { names } = p.kind {
+                assert_eq!(p.min, 0.0);
+                assert_eq!(p.max as usize + 1, names.len(), "{}", p.key);
+            }
+        }
+    }
+
+    #[test]
+    fn set_refuses_out_of_range() {
+        let s = SharedParams::new();
+        let e = s.set(ParamId::Size, 10.0).unwrap_err();
+        assert_eq!(e.field, "size");
+        assert!(s.set(ParamId::Gain, f32::NAN).is_err());
+        assert!(s.set(ParamId::Model, 1.5).is_err());
+        s.set(ParamId::Model, 3.0).unwrap();
+        assert_eq!(s.snapshot().index_of(ParamId::Model), 3);
+        assert_eq!(s.generation(), 1);
+    }
+}

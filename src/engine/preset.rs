@@ -1,0 +1,219 @@
+//! Presets: a TOML file naming parameter values by their stable keys ([`ParamInfo::key`]),
+//! and the factory presets of `assets/presets/` (embedded in the library).
+//!
+//! ```toml
+//! name = "Lecture gong, 40 N"
+//! description = "..."
+//! [params]
+//! model = "gong"          # enumerations by name (or index)
+//! size = 0.4              # numbers in the parameter's unit
+//! ```
+//!
+//! Parameters a preset does not name take their defaults. Unknown keys, unknown names, wrong
+//! types and out-of-range values are errors naming the key, the value and the allowed range.
+//! Parsing and applying run on the GUI / main thread (they allocate).
+
+use super::params::{ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, PARAMS};
+use crate::error::ParamError;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// A parameter value in a preset: a number in the parameter's unit, or an enumeration name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PresetValue {
+    /// A number (enumerations accept their index).
+    Number(f64),
+    /// An enumeration value by name (see [`enum_keys`]).
+    Name(String),
+}
+
+/// A named set of parameter values.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Preset {
+    /// Display name.
+    pub name: String,
+    /// What it is and where its values come from.
+    #[serde(default)]
+    pub description: String,
+    /// Values by parameter key.
+    #[serde(default)]
+    pub params: BTreeMap<String, PresetValue>,
+}
+
+/// Preset names of an enumeration parameter's values, in index order (`None` for other
+/// parameters).
+pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
+    match id {
+        ParamId::Model => Some(&["gong", "cymbal", "rect-plate", "sitar", "tanpura"]),
+        ParamId::Material => Some(&["steel", "bronze", "brass", "aluminium", "custom"]),
+        ParamId::Scheme => Some(&["conservative", "conservative-exact", "stormer-verlet"]),
+        _ => None,
+    }
+}
+
+/// The factory presets' TOML sources, embedded at build time (`assets/presets/`).
+const FACTORY: &[(&str, &str)] = &[
+    (
+        "gong-40N",
+        include_str!("../../assets/presets/gong-40N.toml"),
+    ),
+    (
+        "gong-80N",
+        include_str!("../../assets/presets/gong-80N.toml"),
+    ),
+    (
+        "rect-plate",
+        include_str!("../../assets/presets/rect-plate.toml"),
+    ),
+    ("sitar", include_str!("../../assets/presets/sitar.toml")),
+    (
+        "sitar-b0",
+        include_str!("../../assets/presets/sitar-b0.toml"),
+    ),
+    ("tanpura", include_str!("../../assets/presets/tanpura.toml")),
+    (
+        "tanpura-b0",
+        include_str!("../../assets/presets/tanpura-b0.toml"),
+    ),
+];
+
+impl Preset {
+    /// Parses a preset (checks the structure only; [`Self::values`] checks the values).
+    pub fn from_toml(text: &str) -> Result<Preset, ParamError> {
+        toml::from_str(text)
+            .map_err(|e| ParamError::new("preset", e.message(), "a valid preset TOML file"))
+    }
+
+    /// Reads and parses a preset file.
+    pub fn load(path: &Path) -> Result<Preset, ParamError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ParamError::new(
+                "preset file",
+                path.display(),
+                format!("a readable file ({e})"),
+            )
+        })?;
+        Self::from_toml(&text)
+    }
+
+    /// The preset as TOML text.
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The full parameter set: defaults overridden by the preset's values, each checked.
+    pub fn values(&self) -> Result<ParamValues, ParamError> {
+        let mut v = ParamValues::defaults();
+        for (key, value) in &self.params {
+            let id = ParamId::from_key(key).ok_or_else(|| {
+                ParamError::new(
+                    format!("params.{key}"),
+                    key,
+                    "a parameter key of the engine's table",
+                )
+            })?;
+            let info: &ParamInfo = id.info();
+            let x = match value {
+                PresetValue::Number(x) => *x as f32,
+                PresetValue::Name(name) => {
+                    let names = enum_keys(id).ok_or_else(|| {
+                        ParamError::new(format!("params.{key}"), name, "a number")
+                    })?;
+                    names.iter().position(|n| n == name).ok_or_else(|| {
+                        ParamError::new(format!("params.{key}"), name, format!("one of {names:?}"))
+                    })? as f32
+                }
+            };
+            info.check(x)
+                .map_err(|e| ParamError::new(format!("params.{key}"), e.value, e.allowed))?;
+            v.0[id.index()] = x;
+        }
+        Ok(v)
+    }
+
+    /// A preset holding every value of `v` (enumerations by name).
+    pub fn from_values(name: &str, description: &str, v: &ParamValues) -> Preset {
+        let params = PARAMS
+            .iter()
+            .map(|p| {
+                let x = v.get(p.id);
+                let value = match (p.kind, enum_keys(p.id)) {
+                    (ParamKind::Enum { .. }, Some(names)) => names
+                        .get(x as usize)
+                        .map_or(PresetValue::Number(x as f64), |n| {
+                            PresetValue::Name(n.to_string())
+                        }),
+                    _ => PresetValue::Number(x as f64),
+                };
+                (p.key.to_string(), value)
+            })
+            .collect();
+        Preset {
+            name: name.into(),
+            description: description.into(),
+            params,
+        }
+    }
+
+    /// Writes the preset's full parameter set into `shared` (nothing is written on error).
+    pub fn apply(&self, shared: &SharedParams) -> Result<(), ParamError> {
+        shared.set_all(&self.values()?)
+    }
+
+    /// The factory presets, `(file stem, preset)`, in a fixed order.
+    pub fn factory() -> Vec<(&'static str, Preset)> {
+        FACTORY
+            .iter()
+            .filter_map(|(stem, text)| Self::from_toml(text).ok().map(|p| (*stem, p)))
+            .collect()
+    }
+
+    /// The factory preset with file stem `stem`.
+    pub fn factory_named(stem: &str) -> Option<Preset> {
+        FACTORY
+            .iter()
+            .find(|(s, _)| *s == stem)
+            .and_then(|(_, t)| Self::from_toml(t).ok())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn factory_presets_parse_and_validate() {
+        assert_eq!(Preset::factory().len(), FACTORY.len());
+        for (stem, p) in Preset::factory() {
+            p.values().unwrap_or_else(|e| panic!("{stem}: {e}"));
+        }
+    }
+
+    #[test]
+    fn round_trip_and_errors() {
+        let mut v = ParamValues::defaults();
+        v.set(ParamId::Model, 3.0).unwrap();
+        v.set(ParamId::Tension, 150.0).unwrap();
+        let p = Preset::from_values("x", "", &v);
+        let back = Preset::from_toml(&p.to_toml()).unwrap();
+        assert_eq!(back.values().unwrap(), v);
+        let e = Preset::from_toml("name = \"a\"\n[params]\nsize = 99.0\n")
+            .unwrap()
+            .values()
+            .unwrap_err();
+        assert_eq!(e.field, "params.size");
+        let e = Preset::from_toml("name = \"a\"\n[params]\nmodel = \"drum\"\n")
+            .unwrap()
+            .values()
+            .unwrap_err();
+        assert!(e.allowed.contains("sitar"), "{e}");
+        assert!(Preset::from_toml("name = \"a\"\n[params]\nnope = 1\n")
+            .unwrap()
+            .values()
+            .is_err());
+        assert!(Preset::from_toml("name = 1").is_err());
+    }
+}

@@ -1,0 +1,95 @@
+//! Data sent from the audio thread to the GUI (about 30 times a second) through a ringbuf
+//! queue ([`EngineHandle::telemetry`](super::EngineHandle::telemetry)).
+//!
+//! Plain `Copy` data of fixed size: pushing it never allocates.
+
+use crate::render::source::EnergyTerms;
+
+/// Largest polyphony (the `polyphony` parameter's maximum): the telemetry holds this many
+/// voice slots.
+pub const MAX_VOICES: usize = 16;
+
+/// Points of the displacement snapshot (along a diameter for circular plates, along the
+/// diagonal for rectangles, along the length for strings).
+pub const SNAPSHOT_POINTS: usize = 64;
+
+/// Modes in the telemetry's mode spectrum (the lowest ones).
+pub const SPECTRUM_MODES: usize = 64;
+
+/// One voice as the GUI sees it.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct VoiceTelemetry {
+    /// Whether the voice is sounding.
+    pub active: bool,
+    /// MIDI key it plays.
+    pub key: u8,
+    /// Whether the key is still held (or sustained).
+    pub held: bool,
+    /// Energy terms in J (kinetic, linear potential, nonlinear: in-plane energy of a plate or
+    /// contact energy of a string; dissipated and work since the note started).
+    pub energy: EnergyTerms,
+    /// Seconds since the note started.
+    pub age: f32,
+}
+
+/// One telemetry frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Telemetry {
+    /// Host-rate samples processed since activation when the frame was taken.
+    pub frame: u64,
+    /// Every voice slot (only the first `polyphony` are used).
+    pub voices: [VoiceTelemetry; MAX_VOICES],
+    /// Peak absolute output per channel (left, right) since the previous frame.
+    pub peak: [f32; 2],
+    /// RMS output per channel since the previous frame.
+    pub rms: [f32; 2],
+    /// Displacement snapshot in m of the watched voice ([`Telemetry::watched`]); zeros if
+    /// none.
+    pub displacement: [f32; SNAPSHOT_POINTS],
+    /// Voice slot shown by `displacement` and `mode_amplitude`.
+    pub watched: Option<u8>,
+    /// Frequencies (Hz) of the lowest modes of the watched voice.
+    pub mode_freq: [f32; SPECTRUM_MODES],
+    /// Amplitudes `|q_s|` of those modes (model units: m² for plates, m^3/2 for strings).
+    pub mode_amplitude: [f32; SPECTRUM_MODES],
+    /// Fraction of real time spent in `process` over the last frame (1 = 100 % of one core).
+    pub cpu_load: f32,
+    /// Largest single-block load in the last frame (block time / block duration).
+    pub cpu_peak: f32,
+    /// Whether the worker is building a new voice bank.
+    pub rebuilding: bool,
+    /// Identifier of the voice bank in use (increments with every swap).
+    pub bank: u64,
+    /// Contact Newton solves that hit the iteration cap since activation (strings; the step
+    /// then completes with the capped iterate, see `models::string::contact`).
+    pub newton_cap_hits: u64,
+    /// Voices whose state became non-finite since activation (they are silenced and freed).
+    pub diverged: u64,
+    /// Simulation rate of the bank in use (Hz).
+    pub sim_rate: f32,
+    /// Sounding voices.
+    pub active_voices: u8,
+}
+
+impl Default for Telemetry {
+    fn default() -> Self {
+        Self {
+            frame: 0,
+            voices: [VoiceTelemetry::default(); MAX_VOICES],
+            peak: [0.0; 2],
+            rms: [0.0; 2],
+            displacement: [0.0; SNAPSHOT_POINTS],
+            watched: None,
+            mode_freq: [0.0; SPECTRUM_MODES],
+            mode_amplitude: [0.0; SPECTRUM_MODES],
+            cpu_load: 0.0,
+            cpu_peak: 0.0,
+            rebuilding: false,
+            bank: 0,
+            newton_cap_hits: 0,
+            diverged: 0,
+            sim_rate: 0.0,
+            active_voices: 0,
+        }
+    }
+}
