@@ -41,6 +41,14 @@ impl EngineLink {
         }
     }
 
+    /// Sends a note event from the editor's audition button (applied at the audio thread's
+    /// next block start). GUI thread.
+    pub fn note(&self, kind: EventKind) {
+        if let Ok(mut h) = self.handle.lock() {
+            let _ = h.send(GuiCommand::Event(kind));
+        }
+    }
+
     /// Chooses the voice shown by the spectrum and displacement views (`None`: the loudest).
     pub fn watch(&self, voice: Option<u8>) {
         if let Ok(mut h) = self.handle.lock() {

@@ -42,6 +42,7 @@ pub fn translate<S>(event: &NoteEvent<S>, out: &mut Vec<Event>) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nice_plug::midi::{Channel, Key, VoiceID};
 
     fn one(e: NoteEvent<()>) -> Vec<Event> {
         let mut v = Vec::with_capacity(4);

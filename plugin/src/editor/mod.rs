@@ -17,7 +17,7 @@ use egui::{Color32, RichText, Vec2};
 use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
-use noether::engine::{ParamId, Telemetry, MODEL_NAMES};
+use noether::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -37,6 +37,8 @@ pub struct EditorApp {
     build_error: Option<String>,
     /// Voice slot chosen for the spectrum and displacement views (`None`: the loudest).
     watched: Option<u8>,
+    /// Key sounding from the audition button while it is held (released with the button).
+    auditioning: Option<u8>,
 }
 
 impl EditorApp {
@@ -54,6 +56,7 @@ impl EditorApp {
             telemetry: Telemetry::default(),
             build_error: None,
             watched: None,
+            auditioning: None,
         }
     }
 
@@ -146,7 +149,30 @@ impl EditorApp {
             if ui.button("panic (all sound off)").clicked() {
                 self.link.all_sound_off();
             }
+            ui.separator();
+            self.audition(ui);
         });
+    }
+
+    /// "Hold to play": a note at the root key (velocity 0.8) while the button is held, so the
+    /// standalone can be played without a MIDI device.
+    fn audition(&mut self, ui: &mut egui::Ui) {
+        let held = ui
+            .button("hold to play")
+            .on_hover_text("plays the root key at velocity 0.8 while held")
+            .is_pointer_button_down_on();
+        match (held, self.auditioning) {
+            (true, None) => {
+                let key = self.params.slot(ParamId::RootKey).value().clamp(0.0, 127.0) as u8;
+                self.link.note(EventKind::NoteOn { key, velocity: 0.8 });
+                self.auditioning = Some(key);
+            }
+            (false, Some(key)) => {
+                self.link.note(EventKind::NoteOff { key });
+                self.auditioning = None;
+            }
+            _ => {}
+        }
     }
 
     fn watch_selector(&mut self, ui: &mut egui::Ui) {

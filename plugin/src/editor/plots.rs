@@ -38,7 +38,8 @@ fn small_font() -> FontId {
 
 /// Maps an energy to a bar fraction in [0, 1] on a dB scale below `reference`.
 fn energy_fraction(e: f32, reference: f32) -> f32 {
-    if !(e > 0.0) || !(reference > 0.0) {
+    // Also rejects NaN.
+    if !(e.is_finite() && e > 0.0 && reference.is_finite() && reference > 0.0) {
         return 0.0;
     }
     let db = 10.0 * (e / reference).log10();
@@ -155,7 +156,7 @@ pub fn mode_spectrum(ui: &mut Ui, freqs_hz: &[f32], amplitudes: &[f32], f_max: f
     }
     let range_db = 60.0f32;
     for (&f, &e) in freqs_hz.iter().zip(amplitudes) {
-        if !(e > 0.0) || !f.is_finite() {
+        if !(e.is_finite() && e > 0.0 && f.is_finite()) {
             continue;
         }
         let db = 20.0 * (e / e_max).log10();
