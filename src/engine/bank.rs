@@ -29,22 +29,26 @@ use std::sync::Arc;
 pub const CHUNK: usize = 64;
 
 /// Output normalisation of plates: the pickups read velocity (m/s), divided by this
-/// reference so that the default gong struck at velocity 1 peaks near -6 dBFS (measured by
-/// `tests/engine.rs::default_gong_level`).
+/// reference (measured by `tests/engine.rs::presets_sound_and_decay`, key 60, velocity 1:
+/// gong-40N peaks at 0.58, gong-80N at 0.87, rect-plate at 0.33 full scale).
 pub const PLATE_VELOCITY_REF: f64 = 1.0;
 
-/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] for the sitar preset.
-pub const STRING_VELOCITY_REF: f64 = 1.0;
+/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] (the sitar preset at
+/// key 60, velocity 1 peaks at 1.88 m/s: 0.47 full scale).
+pub const STRING_VELOCITY_REF: f64 = 4.0;
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
+
+/// A cached rectangle: (aspect bits, N_Φ, N_Ψ), modes, tensor.
+type RectEntry = ((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>);
 
 /// Dimensionless modal data kept between builds on the worker thread (a bank rebuilt for a
 /// new strike position reuses the basis and tensor of the previous one).
 #[derive(Default)]
 pub struct ModalCache {
     circular: Option<(CircularPlateSpec, Arc<PlateModes>, Arc<CouplingTensor>)>,
-    rect: Option<((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>)>,
+    rect: Option<RectEntry>,
 }
 
 impl std::fmt::Debug for ModalCache {

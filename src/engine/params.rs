@@ -283,11 +283,14 @@ impl ParamValues {
     }
 
     /// The values of the parameters that trigger a rebuild, in table order, with the others
-    /// zeroed: two snapshots need the same bank iff their rebuild keys are equal.
+    /// zeroed: two snapshots need the same bank iff their rebuild keys are equal. For the
+    /// string models (`model` ≥ 3) the size (the string's length, which sets the grid) is
+    /// part of the key.
     pub fn rebuild_key(&self) -> ParamValues {
         let mut k = *self;
+        let string = self.index_of(ParamId::Model) >= 3;
         for p in PARAMS {
-            if !p.rebuild {
+            if !(p.rebuild || string && p.id == ParamId::Size) {
                 k.0[p.id.index()] = 0.0;
             }
         }

@@ -110,8 +110,9 @@ impl Resampler {
         }
     }
 
-    /// Latency in input (simulation) samples: an input impulse at step `i` peaks at output
-    /// time `(i + half) / fs_in`.
+    /// Latency in input (simulation) samples: output sample `j` is the input signal at time
+    /// `j / fs_out + half / fs_in`, so the engine simulates `half` steps ahead and an event
+    /// is heard `half / fs_in` after it is applied.
     pub fn latency_input(&self) -> usize {
         self.half
     }
@@ -216,6 +217,54 @@ impl Resampler {
             *ol = al;
             *or = ar;
             self.pos += self.ratio;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sine well inside the passband comes out at the same frequency and amplitude, delayed
+    /// by the stated latency: error below 2e-4 of the amplitude (the f32 table and its linear
+    /// interpolation, about 1e-4 at 256 points per zero crossing, plus the Kaiser passband
+    /// ripple), for up- and downsampling and odd block sizes.
+    #[test]
+    fn sine_through_resampler() {
+        for (fs_in, fs_out, f) in [
+            (32_000.0, 48_000.0, 1000.0),
+            (96_000.0, 44_100.0, 3000.0),
+            (16_000.0, 192_000.0, 2500.0),
+        ] {
+            let mut rs = Resampler::new(fs_in, fs_out, 64);
+            let lat = rs.latency_input() as f64 / fs_in;
+            let mut n_in = 0usize;
+            let mut worst: f64 = 0.0;
+            let (mut inl, mut inr) = (vec![0.0f32; rs.max_input()], vec![0.0f32; rs.max_input()]);
+            let mut j = 0usize;
+            for block in (1..=64).cycle().take(400) {
+                let need = rs.input_needed(block);
+                for i in 0..need {
+                    let t = (n_in + i) as f64 / fs_in;
+                    inl[i] = (std::f64::consts::TAU * f * t).sin() as f32;
+                    inr[i] = -inl[i];
+                }
+                n_in += need;
+                rs.push(&inl[..need], &inr[..need]);
+                let (mut ol, mut or) = (vec![0.0f32; block], vec![0.0f32; block]);
+                rs.produce(&mut ol, &mut or);
+                for k in 0..block {
+                    let t = (j + k) as f64 / fs_out + lat;
+                    if t > 0.005 {
+                        let want = (std::f64::consts::TAU * f * t).sin();
+                        worst = worst
+                            .max((ol[k] as f64 - want).abs())
+                            .max((or[k] as f64 + want).abs());
+                    }
+                }
+                j += block;
+            }
+            assert!(worst < 2e-4, "{fs_in} -> {fs_out}: {worst}");
         }
     }
 }

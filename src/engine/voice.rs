@@ -12,6 +12,10 @@
 //!   fundamental moves by `r` (exactly for `B = 0`) and the string gets less inharmonic as it
 //!   is tightened, as a real one.
 //!
+//! Release: after note-off every mode decays at least at `σ = ln(1000) / T60` (60 dB in the
+//! `release_t60` parameter), except modes with `ω_s < σ`, which get critical damping (their
+//! fastest decay).
+//!
 //! Transverse plate modes above `0.45 fs_sim` are neither driven nor heard (their strike and
 //! pickup weights are zeroed): the exact scheme keeps them stable but their samples alias.
 //!
@@ -160,7 +164,9 @@ impl PlateVoice {
         for (s, &l2) in self.data.lambda2.iter().enumerate() {
             let w = l2 * scale;
             self.omega[s] = w;
-            self.damping[s] = (ds * (da * w.powf(db) + dc)).max(floor);
+            // The release floor is capped at critical damping (c = 2ω): a heavier damping
+            // would make a low mode creep back slower (rate ω²/c).
+            self.damping[s] = (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
         }
         let a4 = a.powi(4);
         for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4) {

@@ -63,7 +63,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             omega_h: f64::NAN,
         };
         let pos = |x: f64| x.is_finite() && x > 0.0;
-        if !pos(rho_h) || !pos(e_h) || !(kappa.is_finite() && kappa >= 0.0) {
+        if !(pos(rho_h) && pos(e_h) && kappa.is_finite() && kappa >= 0.0) {
             return Err(bad_scalar);
         }
         if zeta4.iter().any(|&z| !pos(z)) {
@@ -75,7 +75,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 mode: s,
                 omega_h: w * h,
             };
-            if !pos(w) || !(c.is_finite() && c >= 0.0) {
+            if !(pos(w) && c.is_finite() && c >= 0.0) {
                 return Err(refuse);
             }
             if !exact && w * h >= 2.0 {
@@ -155,9 +155,12 @@ mod tests {
     }
 
     fn coupling() -> Arc<DenseCoupling> {
-        Arc::new(DenseCoupling::from_fn(3, 2, |l, i, j| {
-            0.1 * (1 + l + i + j) as f64 / (1 + (i as i64 - j as i64).unsigned_abs()) as f64
-        }))
+        Arc::new(
+            DenseCoupling::from_fn(3, 2, |l, i, j| {
+                0.1 * (1 + l + i + j) as f64 / (1 + (i as i64 - j as i64).unsigned_abs()) as f64
+            })
+            .unwrap(),
+        )
     }
 
     /// A model retuned to parameters P must step exactly (bit for bit) like a model built with

@@ -11,7 +11,7 @@ use crate::models::string::params::Stiffness;
 
 impl StiffString {
     /// Sets tension `T` (N) and stiffness, and the losses `σ_j = max(scale · σ_Valette(f_j),
-    /// floor)` (`losses = None`: `σ_j = floor`), then recomputes every per-mode coefficient.
+    /// min(floor, ω_j))` (`losses = None`: `σ_j = floor`), then recomputes every per-mode coefficient.
     /// `scale ≥ 0` multiplies the Issanchou/Valette model; `floor` (1/s, ≥ 0) is a minimum
     /// decay rate (the engine's release).
     ///
@@ -55,7 +55,8 @@ impl StiffString {
                 Some(v) => scale * v.sigma(&self.params, omega / std::f64::consts::TAU),
                 None => 0.0,
             };
-            let sigma = base.max(floor);
+            // The floor is capped at critical damping (σ = ω), the fastest decay of a mode.
+            let sigma = base.max(floor.min(omega));
             lossy |= sigma > 0.0;
             let c = ModeCoefficients::new(omega, sigma, h);
             self.sigma[j] = sigma;
