@@ -1,0 +1,183 @@
+//! Noether as an instrument: a nice-plug CLAP and VST3 plugin and a standalone application
+//! around the `noether` engine ([`noether::engine`]), with an egui editor.
+//!
+//! This crate is glue only. The engine owns the physics, the voice pool, the worker thread that
+//! builds voice banks and the resampling to the host rate; this crate
+//! - mirrors the engine's parameter table as host parameters ([`params`]),
+//! - translates host note and MIDI events into sample-accurate engine events ([`midi`]),
+//! - connects the editor to the engine's telemetry and command queues ([`link`]),
+//! - ships the factory presets ([`presets`]) and the editor ([`editor`]).
+//!
+//! Threads: `process` runs on the host's audio thread (no allocation, lock or I/O: parameters
+//! are copied into atomics, events into a preallocated buffer); `activate` and the editor run
+//! on the host's main and GUI threads.
+
+pub mod editor;
+pub mod link;
+pub mod midi;
+pub mod params;
+pub mod presets;
+
+use editor::EditorApp;
+use link::EngineLink;
+use nice_plug::prelude::*;
+use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, RepaintNotifier};
+use noether::engine::{Engine, Event, SharedParams};
+use params::NoetherParams;
+use std::num::NonZeroU32;
+use std::sync::Arc;
+
+/// Most note and MIDI events handled in one block (the host's input event capacity).
+const EVENT_CAPACITY: usize = 1024;
+
+/// The plugin instance (one per host instance).
+pub struct Noether {
+    /// Host parameters mirroring the engine's table (host, GUI and audio threads).
+    params: Arc<NoetherParams>,
+    /// The engine's parameter atomics; the audio thread writes them from `params` every block.
+    shared: Arc<SharedParams>,
+    /// The editor application until the host asks for the editor (then moved into it).
+    editor_app: Option<EditorApp>,
+    /// Wakes the editor when a telemetry frame is ready (audio thread: an atomic store).
+    repaint: RepaintNotifier,
+    /// The engine (audio thread; `activate`/`deactivate` on the main thread). It makes no
+    /// sound before the first `activate`.
+    engine: Engine,
+    /// Engine events of the current block, preallocated to [`EVENT_CAPACITY`].
+    events: Vec<Event>,
+}
+
+impl Default for Noether {
+    fn default() -> Self {
+        let params = Arc::new(NoetherParams::default());
+        let shared = Arc::new(SharedParams::new());
+        params.sync_to_engine(&shared);
+        let (engine, handle) = Engine::new(shared.clone());
+        let link = Arc::new(EngineLink::new(handle));
+        let presets = Arc::new(presets::factory_presets());
+        let editor_app = Some(EditorApp::new(params.clone(), link, presets));
+        Self {
+            params,
+            shared,
+            editor_app,
+            repaint: RepaintNotifier::new(),
+            engine,
+            events: Vec::with_capacity(EVENT_CAPACITY),
+        }
+    }
+}
+
+impl Plugin for Noether {
+    const NAME: &'static str = "Noether";
+    const VENDOR: &'static str = "Noether";
+    const URL: &'static str = "https://noether.invalid";
+    const EMAIL: &'static str = "noether@noether.invalid";
+    const VERSION: &'static str = env!("CARGO_PKG_VERSION");
+
+    const AUDIO_IO_LAYOUTS: &'static [AudioIOLayout] = &[AudioIOLayout {
+        main_input_channels: None,
+        main_output_channels: NonZeroU32::new(2),
+        aux_input_ports: &[],
+        aux_output_ports: &[],
+        names: PortNames::const_default(),
+    }];
+
+    const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
+    const SAMPLE_ACCURATE_AUTOMATION: bool = true;
+    const INPUT_EVENT_CAPACITY: usize = EVENT_CAPACITY;
+
+    type Editor = EguiEditor<EditorApp>;
+    type SysExMessage = ();
+    type BackgroundTask = ();
+
+    fn params(&self) -> Arc<dyn Params> {
+        self.params.clone()
+    }
+
+    fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {
+        let app = self.editor_app.take()?;
+        create_egui_editor(
+            self.params.editor_state.clone(),
+            self.repaint.clone(),
+            EguiNiceSettings::new().with_tile("Noether"),
+            app,
+        )
+    }
+
+    fn activate(
+        &mut self,
+        _audio_io_layout: &AudioIOLayout,
+        buffer_config: &BufferConfig,
+        context: &mut impl ActivateContext<Self>,
+    ) -> bool {
+        // The host may have restored a state since the last block: build the first bank for it.
+        self.params.sync_to_engine(&self.shared);
+        let max_block = buffer_config.max_buffer_size.max(1) as usize;
+        match self
+            .engine
+            .activate(f64::from(buffer_config.sample_rate), max_block)
+        {
+            Ok(()) => {
+                context.set_latency_samples(self.engine.latency_samples());
+                true
+            }
+            Err(e) => {
+                nice_error!("the engine refused the host configuration: {e}");
+                false
+            }
+        }
+    }
+
+    fn deactivate(&mut self) {
+        self.engine.deactivate();
+    }
+
+    fn reset(&mut self) {
+        self.engine.reset();
+    }
+
+    fn process(
+        &mut self,
+        buffer: &mut Buffer,
+        _aux: &mut AuxiliaryBuffers,
+        context: &mut impl ProcessContext<Self>,
+    ) -> ProcessStatus {
+        self.params.sync_to_engine(&self.shared);
+        self.events.clear();
+        while let Some(event) = context.next_event() {
+            if self.events.len() < self.events.capacity() {
+                midi::translate(&event, &mut self.events);
+            }
+        }
+        let [left, right] = buffer.as_slice() else {
+            return ProcessStatus::Error("the plugin needs a stereo output");
+        };
+        self.engine.process_events(&self.events, left, right);
+        if self.params.editor_state.is_open() {
+            self.repaint.request_repaint();
+        }
+        ProcessStatus::KeepAlive
+    }
+}
+
+impl ClapPlugin for Noether {
+    const CLAP_ID: &'static str = "org.noether.noether";
+    const CLAP_DESCRIPTION: Option<&'static str> =
+        Some("Physical-model gongs, plates, sitar and tanpura with energy-conserving schemes");
+    const CLAP_MANUAL_URL: Option<&'static str> = None;
+    const CLAP_SUPPORT_URL: Option<&'static str> = None;
+    const CLAP_FEATURES: &'static [ClapFeature] = &[
+        ClapFeature::Instrument,
+        ClapFeature::Synthesizer,
+        ClapFeature::Stereo,
+    ];
+}
+
+impl Vst3Plugin for Noether {
+    const VST3_CLASS_ID: [u8; 16] = *b"NoetherPhysModel";
+    const VST3_SUBCATEGORIES: &'static [Vst3SubCategory] =
+        &[Vst3SubCategory::Instrument, Vst3SubCategory::Synth];
+}
+
+nice_export_clap!(Noether);
+nice_export_vst3!(Noether);

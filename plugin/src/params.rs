@@ -1,0 +1,295 @@
+//! The plugin's parameters: one nice-plug parameter per row of the engine's static table
+//! ([`noether::engine::PARAMS`]), same stable key, name, unit and range, so hosts automate
+//! exactly the engine's parameters. Enumerations and integers become `IntParam`s (with the
+//! enumeration names as their text), floats `FloatParam`s (log-like skew where the table marks
+//! the range as spanning decades).
+//!
+//! Threads: the host and the editor write the nice-plug parameters (any thread, atomics inside
+//! nice-plug); the audio thread copies them into the engine's [`SharedParams`] at the start of
+//! every (sample-accurately split) block in [`NoetherParams::sync_to_engine`].
+
+use nice_plug::editor::dpi::LogicalSize;
+use nice_plug::prelude::*;
+use nice_plug_egui::EguiEditorState;
+use noether::engine::{ParamId, ParamInfo, ParamKind, SharedParams, PARAMS};
+use std::collections::BTreeMap;
+use std::sync::{Arc, RwLock};
+
+/// A nice-plug parameter mirroring one engine parameter.
+pub enum Slot {
+    /// A continuous engine parameter.
+    Float(FloatParam),
+    /// An integer or enumeration engine parameter.
+    Int(IntParam),
+}
+
+impl Slot {
+    /// The current plain value as the engine stores it (f32, integers exact). Any thread.
+    pub fn value(&self) -> f32 {
+        match self {
+            Slot::Float(p) => p.value(),
+            Slot::Int(p) => p.value() as f32,
+        }
+    }
+}
+
+/// The skew factor that puts the geometric mean of `[min, max]` at the middle of the control,
+/// so a range spanning decades gets about equal travel per decade near the middle
+/// (nice-plug has no logarithmic range; `FloatRange::Skewed` maps `n = t^factor` with `t` the
+/// linear fraction).
+fn log_like_skew(min: f32, max: f32) -> f32 {
+    let min = f64::from(min);
+    let max = f64::from(max);
+    let mid = (min * max).sqrt();
+    let t = (mid - min) / (max - min);
+    (0.5f64.ln() / t.ln()) as f32
+}
+
+/// `v` with four significant digits: fixed notation from 0.01 to 99 999, scientific outside
+/// (a relative rounding of at most 5e-4, which the test host's read-back check allows for).
+pub fn four_significant(v: f32) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".to_string()
+    } else if (1e-2..1e5).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+fn float_slot(info: &ParamInfo, log: bool) -> FloatParam {
+    let range = if log && info.min > 0.0 {
+        FloatRange::Skewed {
+            min: info.min,
+            max: info.max,
+            factor: log_like_skew(info.min, info.max),
+        }
+    } else {
+        FloatRange::Linear {
+            min: info.min,
+            max: info.max,
+        }
+    };
+    let unit = info.unit;
+    FloatParam::new(info.name, info.default, range)
+        .with_value_to_string(Arc::new(move |v| {
+            let number = four_significant(v);
+            if unit.is_empty() {
+                number
+            } else {
+                format!("{number} {unit}")
+            }
+        }))
+        .with_string_to_value(Arc::new(|s| {
+            s.split_whitespace().next().and_then(|t| t.parse().ok())
+        }))
+}
+
+fn int_slot(info: &ParamInfo) -> IntParam {
+    let range = IntRange::Linear {
+        min: info.min as i32,
+        max: info.max as i32,
+    };
+    let p = IntParam::new(info.name, info.default as i32, range);
+    match info.kind {
+        ParamKind::Enum { names } => p
+            .with_value_to_string(Arc::new(move |v| {
+                names
+                    .get(v.max(0) as usize)
+                    .map_or_else(|| v.to_string(), |s| (*s).to_string())
+            }))
+            .with_string_to_value(Arc::new(move |s| {
+                names
+                    .iter()
+                    .position(|n| n.eq_ignore_ascii_case(s.trim()))
+                    .map(|i| i as i32)
+                    .or_else(|| s.trim().parse().ok())
+            })),
+        _ if !info.unit.is_empty() => {
+            let unit = info.unit;
+            p.with_value_to_string(Arc::new(move |v| format!("{v} {unit}")))
+                .with_string_to_value(Arc::new(|s| {
+                    s.split_whitespace().next().and_then(|t| t.parse().ok())
+                }))
+        }
+        _ => p,
+    }
+}
+
+/// Every plugin parameter plus the persisted non-parameter state.
+pub struct NoetherParams {
+    /// One slot per engine parameter, indexed by `ParamId::index()`.
+    pub slots: Vec<Slot>,
+    /// Editor window size and zoom (GUI thread; nice-plug-egui 0.6 cannot persist it).
+    pub editor_state: Arc<EguiEditorState>,
+    /// Name of the last factory preset loaded from the editor (persisted; shown in the
+    /// preset menu; empty if none). GUI and main thread.
+    pub preset_name: RwLock<String>,
+}
+
+impl Default for NoetherParams {
+    fn default() -> Self {
+        let slots = PARAMS
+            .iter()
+            .map(|info| match info.kind {
+                ParamKind::Float { log } => Slot::Float(float_slot(info, log)),
+                ParamKind::Int | ParamKind::Enum { .. } => Slot::Int(int_slot(info)),
+            })
+            .collect();
+        Self {
+            slots,
+            editor_state: EguiEditorState::from_size(LogicalSize::new(960.0, 660.0), 1.0),
+            preset_name: RwLock::new(String::new()),
+        }
+    }
+}
+
+impl NoetherParams {
+    /// The slot of `id`.
+    pub fn slot(&self, id: ParamId) -> &Slot {
+        &self.slots[id.index()]
+    }
+
+    /// Copies every value whose bits differ from the engine's into `shared` (audio thread,
+    /// once per block; wait-free, no allocation). Values are clamped to the table's range
+    /// first: nice-plug keeps plain values inside the range up to the rounding of its skewed
+    /// map, and the engine refuses values one ulp outside.
+    pub fn sync_to_engine(&self, shared: &SharedParams) {
+        for (slot, info) in self.slots.iter().zip(PARAMS) {
+            let v = slot.value().clamp(info.min, info.max);
+            if v.to_bits() != shared.get(info.id).to_bits() {
+                // Cannot fail: finite, inside the range, integral for Int slots.
+                let _ = shared.set(info.id, v);
+            }
+        }
+    }
+}
+
+const PRESET_KEY: &str = "preset";
+
+// SAFETY: the pointers in `param_map` point into `self.slots`, which is never resized after
+// construction, and the `Params` object lives in an `Arc` that outlives the wrapper's use.
+unsafe impl Params for NoetherParams {
+    fn param_map(&self) -> Vec<(String, ParamPtr, String)> {
+        self.slots
+            .iter()
+            .zip(PARAMS)
+            .map(|(slot, info)| {
+                let ptr = match slot {
+                    Slot::Float(p) => p.as_ptr(),
+                    Slot::Int(p) => p.as_ptr(),
+                };
+                (info.key.to_string(), ptr, group_of(info.id).to_string())
+            })
+            .collect()
+    }
+
+    fn serialize_fields(&self) -> BTreeMap<String, String> {
+        let mut map = BTreeMap::new();
+        let name = self
+            .preset_name
+            .read()
+            .map(|n| n.clone())
+            .unwrap_or_default();
+        if let Ok(s) = nice_plug::params::persist::serialize_field(&name) {
+            map.insert(PRESET_KEY.to_string(), s);
+        }
+        map
+    }
+
+    fn deserialize_fields(&self, serialized: &BTreeMap<String, String>) {
+        if let Some(s) = serialized.get(PRESET_KEY) {
+            match nice_plug::params::persist::deserialize_field::<String>(s) {
+                Ok(v) => {
+                    if let Ok(mut n) = self.preset_name.write() {
+                        *n = v;
+                    }
+                }
+                Err(e) => nice_log!("ignoring a corrupt preset name in the plugin state: {e}"),
+            }
+        }
+    }
+}
+
+/// The editor panel (and host parameter group) a parameter belongs to.
+pub fn group_of(id: ParamId) -> &'static str {
+    use ParamId::*;
+    match id {
+        Model | Size | Thickness | Aspect | Material | YoungsModulus | Density | Poisson => {
+            "Model and material"
+        }
+        DampingScale | DampingA | DampingB | DampingC0 | ReleaseT60 => "Damping and release",
+        StrikeRadius | StrikeAngle | StrikeDuration | StrikeForce | VelocityCurve
+        | PluckPosition | PluckAmplitude => "Excitation",
+        PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
+        Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
+        | ContactStiffness | ContactAlpha => "String and bridge",
+        Modes | InPlaneModes | SimRate | Scheme | Polyphony => "Quality",
+        _ => "Tuning and output",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The mirror has the engine's keys, ranges and defaults (exact for integers; floats
+    /// within one f32 ulp-scale of the range from the skewed map's round trip).
+    #[test]
+    fn mirrors_the_engine_table() {
+        let p = NoetherParams::default();
+        let map = p.param_map();
+        assert_eq!(map.len(), PARAMS.len());
+        for ((key, _, _), info) in map.iter().zip(PARAMS) {
+            assert_eq!(key, info.key);
+            let v = p.slot(info.id).value();
+            let tol = 1e-6 * (info.max - info.min);
+            assert!(
+                (v - info.default).abs() <= tol,
+                "{}: {v} vs {}",
+                info.key,
+                info.default
+            );
+        }
+    }
+
+    /// The skew puts the geometric mean at the middle of the control (to f32 rounding).
+    #[test]
+    fn log_like_skew_centres_the_geometric_mean() {
+        for (min, max) in [(1.0e3f32, 1.0e16f32), (0.05, 3.0), (1.0e-4, 1.0e-2)] {
+            let r = FloatRange::Skewed {
+                min,
+                max,
+                factor: log_like_skew(min, max),
+            };
+            let mid = (min as f64 * max as f64).sqrt() as f32;
+            assert!((r.normalize(mid) - 0.5).abs() < 1e-4, "{min}..{max}");
+        }
+    }
+
+    #[test]
+    fn four_significant_digits() {
+        assert_eq!(four_significant(180.5), "180.5");
+        assert_eq!(four_significant(2.0), "2.000");
+        assert_eq!(four_significant(0.0123), "0.01230");
+        assert_eq!(four_significant(1.0e13), "1.000e13");
+        assert_eq!(four_significant(1.0e-3), "1.000e-3");
+        assert_eq!(four_significant(-6.0), "-6.000");
+    }
+
+    /// Syncing writes every value into the engine's atomics, clamped and accepted.
+    #[test]
+    fn sync_copies_values() {
+        let p = NoetherParams::default();
+        let shared = SharedParams::new();
+        p.sync_to_engine(&shared);
+        for info in PARAMS {
+            assert_eq!(
+                shared.get(info.id),
+                p.slot(info.id).value().clamp(info.min, info.max)
+            );
+        }
+    }
+}

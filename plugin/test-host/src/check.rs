@@ -1,0 +1,141 @@
+//! `check`: the acceptance test every plugin render goes through (the CLAP host's, pedalboard's
+//! and the JACK recording of the standalone): finite, non-silent, decaying after the note-off.
+
+use crate::{parse_num, path_arg};
+use std::path::PathBuf;
+
+/// Options of `check`.
+#[derive(Debug)]
+pub struct CheckOptions {
+    /// The WAV file (integer or float, any channel count).
+    pub file: PathBuf,
+    /// Note-off time in seconds, from the start of the file or (with `from_onset`) from the first
+    /// sample whose magnitude exceeds `min_peak`.
+    pub note_off: f64,
+    /// Count `note_off` from the onset (for recordings that start at an unknown time).
+    pub from_onset: bool,
+    /// The smallest acceptable peak before the note-off (full scale 1.0).
+    pub min_peak: f64,
+}
+
+impl CheckOptions {
+    /// Parses `FILE --note-off S [--from-onset] [--min-peak X]`.
+    pub fn parse(args: &[String]) -> Result<Self, String> {
+        let mut it = args.iter();
+        let file = path_arg("FILE.wav", it.next())?;
+        let mut note_off = None;
+        let mut from_onset = false;
+        // -80 dBFS: far below any struck or plucked note at the factory gain, far above the
+        // float rounding floor of a silent render (exactly 0) or dither.
+        let mut min_peak = 1e-4;
+        while let Some(flag) = it.next() {
+            match flag.as_str() {
+                "--note-off" => note_off = Some(parse_num(flag, it.next())?),
+                "--from-onset" => from_onset = true,
+                "--min-peak" => min_peak = parse_num(flag, it.next())?,
+                other => return Err(format!("unknown option `{other}`")),
+            }
+        }
+        Ok(Self {
+            file,
+            note_off: note_off.ok_or("check needs --note-off SECONDS")?,
+            from_onset,
+            min_peak,
+        })
+    }
+}
+
+/// Reads a WAV into per-frame peak magnitude across channels (and reports non-finite samples).
+fn read_frames(path: &PathBuf) -> Result<(Vec<f64>, u32, usize), String> {
+    let mut r = hound::WavReader::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let spec = r.spec();
+    let ch = spec.channels as usize;
+    let samples: Vec<f64> = match spec.sample_format {
+        hound::SampleFormat::Float => r
+            .samples::<f32>()
+            .map(|s| s.map(f64::from))
+            .collect::<Result<_, _>>(),
+        hound::SampleFormat::Int => {
+            let scale = 1.0 / f64::from(1u32 << (spec.bits_per_sample - 1));
+            r.samples::<i32>()
+                .map(|s| s.map(|v| f64::from(v) * scale))
+                .collect::<Result<_, _>>()
+        }
+    }
+    .map_err(|e| format!("{}: {e}", path.display()))?;
+    let bad = samples.iter().filter(|s| !s.is_finite()).count();
+    let frames = samples
+        .chunks(ch)
+        .map(|f| f.iter().fold(0.0f64, |m, s| m.max(s.abs())))
+        .collect();
+    Ok((frames, spec.sample_rate, bad))
+}
+
+fn rms(x: &[f64]) -> f64 {
+    if x.is_empty() {
+        return 0.0;
+    }
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// Runs the checks and prints the figures they are based on.
+pub fn check(o: &CheckOptions) -> Result<(), String> {
+    let (frames, rate, bad) = read_frames(&o.file)?;
+    let rate_f = f64::from(rate);
+    if bad > 0 {
+        return Err(format!(
+            "{}: {bad} samples are NaN or infinite",
+            o.file.display()
+        ));
+    }
+    let onset = if o.from_onset {
+        frames.iter().position(|&v| v > o.min_peak).ok_or_else(|| {
+            format!(
+                "{}: silent (no sample above {:e})",
+                o.file.display(),
+                o.min_peak
+            )
+        })?
+    } else {
+        0
+    };
+    let off = onset + (o.note_off * rate_f).round() as usize;
+    // 100 ms windows: long enough to average over the lowest partials of the presets (tens of
+    // Hz), short against the decay times being compared.
+    let win = (0.1 * rate_f).round() as usize;
+    if frames.len() < off + 3 * win || off < win {
+        return Err(format!(
+            "{}: {} frames at {rate} Hz is too short for a note-off at frame {off} and 100 ms windows",
+            o.file.display(),
+            frames.len()
+        ));
+    }
+    let peak = frames[onset..off].iter().fold(0.0f64, |m, &v| m.max(v));
+    let before = rms(&frames[off - win..off]);
+    let tail = rms(&frames[frames.len() - win..]);
+    let drop = if tail > 0.0 && before > 0.0 {
+        format!("{:.1} dB", 20.0 * (tail / before).log10())
+    } else {
+        "silent".to_string()
+    };
+    println!(
+        "{}: {} frames at {rate} Hz, onset frame {onset}, peak before note-off {peak:.3e}, \
+         RMS of the 100 ms before note-off {before:.3e}, of the last 100 ms {tail:.3e} ({drop})",
+        o.file.display(),
+        frames.len(),
+    );
+    if peak < o.min_peak {
+        return Err(format!("silent: peak {peak:e} below {:e}", o.min_peak));
+    }
+    // Decaying: the last 100 ms at least 6 dB below the 100 ms before the note-off. A released
+    // voice loses energy exponentially; 6 dB is a small fraction of what any release in the
+    // presets removes over the render's tail, and a voice that ignored the note-off (or grew)
+    // fails it.
+    if tail > 0.5 * before {
+        return Err(format!(
+            "not decaying after note-off: last 100 ms RMS {tail:e} > half of {before:e}"
+        ));
+    }
+    println!("ok: finite, non-silent, decaying after note-off");
+    Ok(())
+}

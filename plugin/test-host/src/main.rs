@@ -1,0 +1,71 @@
+//! `noether-test-host`: a small CLAP host built on `clack-host` that loads
+//! `noether-plugin.clap`, lists its parameters, sets some of them, plays notes with MIDI
+//! expression (pitch bend, mod wheel, sustain) and renders a stereo WAV; plus `check`, which reads
+//! any WAV (ours, `jack_rec`'s, pedalboard's) and checks it is finite, non-silent and decaying
+//! after the note-off. CI runs both through `.ci/plugin`.
+//!
+//! Everything runs on the main thread: the host calls `process` itself, block after block, which
+//! is what an offline bounce in a DAW does.
+
+mod check;
+mod host;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Command line of the test host.
+#[derive(Debug)]
+enum Command {
+    /// `render PLUGIN.clap OUT.wav [options]`.
+    Render(host::RenderOptions),
+    /// `check FILE.wav --note-off SECONDS [--min-peak X]`.
+    Check(check::CheckOptions),
+}
+
+fn usage() -> &'static str {
+    "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
+     [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip]\n  \
+     noether-test-host check FILE.wav --note-off S [--min-peak X]"
+}
+
+fn parse_args(args: &[String]) -> Result<Command, String> {
+    let (cmd, rest) = args.split_first().ok_or_else(|| usage().to_string())?;
+    match cmd.as_str() {
+        "render" => host::RenderOptions::parse(rest).map(Command::Render),
+        "check" => check::CheckOptions::parse(rest).map(Command::Check),
+        other => Err(format!("unknown command `{other}`\n{}", usage())),
+    }
+}
+
+/// Parses `value` for option `name` as a number, naming both on failure.
+pub(crate) fn parse_num<T: std::str::FromStr>(
+    name: &str,
+    value: Option<&String>,
+) -> Result<T, String> {
+    let value = value.ok_or_else(|| format!("{name} needs a value"))?;
+    value
+        .parse()
+        .map_err(|_| format!("{name}: `{value}` is not a valid number"))
+}
+
+/// Returns a path argument.
+pub(crate) fn path_arg(name: &str, value: Option<&String>) -> Result<PathBuf, String> {
+    value
+        .map(PathBuf::from)
+        .ok_or_else(|| format!("missing {name}\n{}", usage()))
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = parse_args(&args).and_then(|cmd| match cmd {
+        Command::Render(opts) => host::render(&opts),
+        Command::Check(opts) => check::check(&opts),
+    });
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("noether-test-host: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
