@@ -1,6 +1,7 @@
 //! Command-line interface of the `noether` binary (argument parsing and dispatch only; the
 //! work is done by the library).
 
+mod accuracy;
 mod lab;
 mod modes;
 mod render;
@@ -24,6 +25,9 @@ pub enum Command {
     Lab(lab::LabArgs),
     /// Render a scene file offline to WAV, a JSON report and (with --plot) PNG figures.
     Render(render::RenderArgs),
+    /// Measure accuracy against cost: render a scene under several settings (e.g. simulation
+    /// rates) and against a reference; write a table and a PNG of error against wall time.
+    Accuracy(accuracy::AccuracyArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
 }
@@ -32,6 +36,7 @@ pub enum Command {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Some(Command::Accuracy(args)) => accuracy::run(args),
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
         Some(Command::Render(args)) => render::run(args),

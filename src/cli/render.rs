@@ -94,6 +94,16 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         "  peak {:.4e}, wall {:.2} s, real-time factor {:.3}",
         report.peak, report.wall_seconds, report.realtime_factor
     );
+    if let Some(c) = &report.contact {
+        println!(
+            "  contact: max penetration {:.3e} m, Newton max {} iterations, {} failures (cap {}), histogram {:?}",
+            c.max_penetration,
+            c.newton_max_iterations,
+            c.newton_failures,
+            c.newton_cap,
+            c.newton_histogram
+        );
+    }
     println!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.plot {
         // Show up to 4x the highest modelled frequency: the cascade spreads energy upwards.

@@ -1,9 +1,11 @@
 //! Offline rendering: the render loop over any [`source::RenderSource`], WAV output and
 //! sample-rate conversion.
 
+pub mod accuracy;
 pub mod offline;
 pub mod report;
 pub mod resample;
 pub mod scene;
+pub mod shape_plot;
 pub mod source;
 pub mod wav;

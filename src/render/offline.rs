@@ -1,8 +1,8 @@
 //! The offline render loop: run a [`RenderSource`] for a duration, record its pickups and
 //! energy, resample to the output rate, and measure the run.
 
-use super::resample::resample;
-use super::source::{EnergyTerms, RenderSource};
+use super::resample::{advance, resample};
+use super::source::{EnergyTerms, RenderSource, ShapeSnapshot};
 use serde::Serialize;
 use std::time::Instant;
 
@@ -22,6 +22,8 @@ pub struct Rendered {
     pub energy_stride: usize,
     /// Figures of the run.
     pub stats: RenderStats,
+    /// Shapes at the requested instants (models with a 1-D shape only).
+    pub shapes: Vec<ShapeSnapshot>,
 }
 
 /// Energy figures of a run (all relative errors divided by the largest total energy seen,
@@ -71,10 +73,42 @@ pub fn render(
     out_rate: u32,
     gain: f64,
     energy_points: usize,
+    progress: impl FnMut(f64),
+) -> Result<Rendered, String> {
+    render_with_shapes(
+        source,
+        seconds,
+        out_rate,
+        gain,
+        energy_points,
+        &[],
+        progress,
+    )
+}
+
+/// [`render`], also recording the model's shape ([`RenderSource::shape`]) after the step
+/// nearest to each instant of `snapshot_times` (s; instants outside the run are skipped).
+pub fn render_with_shapes(
+    source: &mut dyn RenderSource,
+    seconds: f64,
+    out_rate: u32,
+    gain: f64,
+    energy_points: usize,
+    snapshot_times: &[f64],
     mut progress: impl FnMut(f64),
 ) -> Result<Rendered, String> {
     let fs = source.sim_rate();
     let steps = (seconds * fs).round().max(1.0) as u64;
+    let mut snap_steps: Vec<u64> = snapshot_times
+        .iter()
+        .filter(|t| t.is_finite() && **t >= 0.0)
+        .map(|t| (t * fs).round() as u64)
+        .filter(|&n| n <= steps)
+        .collect();
+    snap_steps.sort_unstable();
+    snap_steps.dedup();
+    let mut next_snap = 0usize;
+    let mut shapes = Vec::new();
     let channels = source.channels();
     let stride = ((steps as usize) / energy_points.max(1)).max(1);
     let mut sim = vec![Vec::with_capacity(steps as usize); channels];
@@ -85,10 +119,22 @@ pub fn render(
     let mut done: u64 = 0;
     let mut nan_count = 0u64;
     let mut since_energy = 0usize;
-    while done < steps {
-        // Blocks end on energy-sample boundaries so energy is sampled exactly every `stride`.
+    while done < steps || next_snap < snap_steps.len() {
+        while next_snap < snap_steps.len() && snap_steps[next_snap] <= done {
+            shapes.extend(source.shape(done as f64 / fs));
+            next_snap += 1;
+        }
+        if done >= steps {
+            break;
+        }
+        // Blocks end on energy-sample and snapshot boundaries so energy is sampled exactly
+        // every `stride` and shapes at their steps.
+        let to_snap = snap_steps
+            .get(next_snap)
+            .map_or(u64::MAX, |&n| n.saturating_sub(done).max(1));
         let frames = (steps - done)
             .min(BLOCK as u64)
+            .min(to_snap)
             .min((stride - since_energy) as u64) as usize;
         source.process(&mut block, frames);
         for (s, b) in sim.iter_mut().zip(&block) {
@@ -112,7 +158,11 @@ pub fn render(
         progress(done as f64 / steps as f64);
     }
     let wall = start.elapsed().as_secs_f64();
-    let out = resample(&sim, fs.round() as u32, out_rate)?;
+    let mut out = resample(&sim, fs.round() as u32, out_rate)?;
+    for (c, ch) in out.iter_mut().enumerate() {
+        // Sample m then lies at t = m / out_rate: y[m] = x(m - delay · out_rate).
+        advance(ch, -source.output_delay(c) * out_rate as f64);
+    }
     let peak = out.iter().flatten().fold(0.0f64, |m, x| m.max(x.abs()));
     let stats = RenderStats {
         seconds,
@@ -133,6 +183,7 @@ pub fn render(
         energy,
         energy_stride: stride,
         stats,
+        shapes,
     })
 }
 

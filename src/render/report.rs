@@ -1,6 +1,8 @@
 //! The render report (JSON) and figures (energy curves, waveform, spectrogram).
 
 use super::offline::{EnergyStats, Rendered};
+use super::shape_plot::write_shape_png;
+use super::source::ContactSummary;
 use crate::analysis::spectrogram::spectrogram;
 use crate::plot::spectrogram::write_spectrogram_png;
 use crate::plot::{write_png, Panel, Series};
@@ -41,6 +43,10 @@ pub struct RenderReport {
     /// Spectral centroid of pickup 1 (Hz) over the first and the last 100 ms: a rising value
     /// shows energy moving to high frequencies (the gong's cascade); `null` for silence.
     pub spectral_centroid_hz: [Option<f64>; 2],
+    /// Contact solver figures (models with a contact only): `contact.max_penetration`,
+    /// `contact.newton_max_iterations`, `contact.newton_failures`, the iteration histogram.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact: Option<ContactSummary>,
     /// Model-specific figures.
     pub details: serde_json::Map<String, serde_json::Value>,
 }
@@ -109,19 +115,22 @@ pub fn write_plots(
         t.clone(),
         col(&|e| (e.balance() - b0) / scale),
     ));
-    let share = Panel::new("in-plane share of the energy", "t (s)", "nonlinear / total").push(
-        Series::line(
-            "u / (t + v + u)",
-            t.clone(),
-            col(&|e| {
-                if e.total() > 0.0 {
-                    e.nonlinear / e.total()
-                } else {
-                    0.0
-                }
-            }),
-        ),
-    );
+    let share = Panel::new(
+        "nonlinear share of the energy (in-plane or contact)",
+        "t (s)",
+        "nonlinear / total",
+    )
+    .push(Series::line(
+        "nonlinear / total",
+        t.clone(),
+        col(&|e| {
+            if e.total() > 0.0 {
+                e.nonlinear / e.total()
+            } else {
+                0.0
+            }
+        }),
+    ));
     let losses = Panel::new("losses and work", "t (s)", "energy (J)")
         .push(Series::line(
             "dissipated",
@@ -187,6 +196,15 @@ pub fn write_plots(
     )
     .map_err(|e| e.to_string())?;
     written.push(path);
+    if !r.shapes.is_empty() {
+        let path = dir.join(format!("{stem}-shape.png"));
+        write_shape_png(
+            &path,
+            &format!("{stem}: string shape against the obstacle"),
+            &r.shapes,
+        )?;
+        written.push(path);
+    }
     Ok(written)
 }
 

@@ -57,9 +57,72 @@ pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<V
         .collect())
 }
 
+/// Advances `x` in time by `tau` samples (`y[m] = x(m + tau)`, `tau` may be fractional), by
+/// the exact band-limited shift `X(f) e^{2πi f tau}` of its zero-padded (to twice the length, so
+/// nothing wraps around) discrete Fourier transform. Used to put sample 0 of every render at
+/// t = 0 whatever the model's output latency. Allocates.
+pub fn advance(x: &mut [f64], tau: f64) {
+    let n = x.len();
+    if n == 0 || tau == 0.0 {
+        return;
+    }
+    let len = 2 * n;
+    let mut planner = rustfft::FftPlanner::<f64>::new();
+    let (fwd, inv) = (planner.plan_fft_forward(len), planner.plan_fft_inverse(len));
+    let mut buf: Vec<rustfft::num_complex::Complex<f64>> = x
+        .iter()
+        .map(|&v| rustfft::num_complex::Complex::new(v, 0.0))
+        .chain(std::iter::repeat_n(
+            rustfft::num_complex::Complex::new(0.0, 0.0),
+            len - n,
+        ))
+        .collect();
+    fwd.process(&mut buf);
+    for (k, b) in buf.iter_mut().enumerate() {
+        // Signed frequency index; the Nyquist bin (k = n) gets the cosine part only.
+        let kk = if k <= len / 2 {
+            k as f64
+        } else {
+            k as f64 - len as f64
+        };
+        let phase = std::f64::consts::TAU * kk * tau / len as f64;
+        let rot = if k == len / 2 {
+            rustfft::num_complex::Complex::new(phase.cos(), 0.0)
+        } else {
+            rustfft::num_complex::Complex::from_polar(1.0, phase)
+        };
+        *b *= rot;
+    }
+    inv.process(&mut buf);
+    for (v, b) in x.iter_mut().zip(&buf) {
+        *v = b.re / len as f64;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A windowed (raised-cosine envelope, so no edge) 1 kHz burst at 48 kHz advanced by 0.3 and
+    /// by 7.6 samples matches the analytic signal to 1e-6 (the envelope keeps the spectrum
+    /// band-limited to within ~1e-7 of its peak; the shift is exact for such signals).
+    #[test]
+    fn advance_is_a_band_limited_time_shift() {
+        let rate = 48_000.0;
+        let n = 4800;
+        let f = |t: f64| {
+            let env = 0.5 - 0.5 * (std::f64::consts::TAU * t / (n as f64 / rate)).cos();
+            env * (std::f64::consts::TAU * 1000.0 * t).sin()
+        };
+        for tau in [0.3, 7.6] {
+            let mut x: Vec<f64> = (0..n).map(|m| f(m as f64 / rate)).collect();
+            advance(&mut x, tau);
+            let err = (0..n - 8)
+                .map(|m| (x[m] - f((m as f64 + tau) / rate)).abs())
+                .fold(0.0, f64::max);
+            assert!(err < 1e-6, "tau {tau}: {err}");
+        }
+    }
 
     /// A 1 kHz sine keeps its frequency, amplitude and timing through the rate changes the
     /// renders use. rubato's FFT filter is band-limited; the measured error away from the edges

@@ -1,13 +1,80 @@
-//! Rendering a whole [`Scene`]: build its model, run it, and fill the report.
+//! Rendering a whole [`Scene`]: build its model (plate or string) as a [`RenderSource`], run it
+//! through the one offline loop, and fill the report.
 
-use super::offline::{render, Rendered};
+use super::offline::{render_with_shapes, Rendered};
 use super::report::{spectral_centroid, RenderReport};
 use super::source::RenderSource;
 use crate::models::plate::voice::PlateVoice;
-use crate::scene::Scene;
+use crate::models::string::StiffString;
+use crate::scene::{Scene, StringScene};
 
 /// Energy samples kept for plots and statistics over a render.
 pub const ENERGY_POINTS: usize = 4000;
+
+/// A scene's model, ready to render, with what the report says about it.
+pub struct SceneSource {
+    /// The model.
+    pub source: Box<dyn RenderSource>,
+    /// Model family (`plate` or `string`).
+    pub model: &'static str,
+    /// Scheme identifier.
+    pub scheme: String,
+    /// Transverse (plate) or string modes.
+    pub n_phi: usize,
+    /// In-plane modes (0 for strings).
+    pub n_psi: usize,
+    /// Instants (s) at which to record the model's shape.
+    pub snapshots: Vec<f64>,
+}
+
+/// Builds the string of `scene` and sets its initial condition or strike.
+pub fn build_string(scene: &StringScene) -> Result<StiffString, String> {
+    scene.validate().map_err(|e| e.to_string())?;
+    let scoped = |mut e: crate::ParamError| {
+        e.field = format!("string.{}", e.field);
+        e.to_string()
+    };
+    let mut s = StiffString::new(&scene.config()).map_err(scoped)?;
+    if let Some(p) = scene.pluck() {
+        s.pluck(&p).map_err(scoped)?;
+    }
+    if let Some(f) = scene.strike() {
+        s.strike(&f).map_err(scoped)?;
+    }
+    Ok(s)
+}
+
+/// Builds the model of `scene` (validated).
+pub fn build_source(scene: &Scene) -> Result<SceneSource, String> {
+    match (&scene.plate, &scene.string) {
+        (Some(plate), None) => {
+            let voice = PlateVoice::build(plate)?;
+            let info = voice.info().clone();
+            Ok(SceneSource {
+                source: Box::new(voice),
+                model: "plate",
+                scheme: info.scheme.clone(),
+                n_phi: info.n_phi,
+                n_psi: info.n_psi,
+                snapshots: Vec::new(),
+            })
+        }
+        (None, Some(string)) => Ok(SceneSource {
+            source: Box::new(build_string(string)?),
+            model: "string",
+            scheme: "exact-modal+discrete-gradient-contact".into(),
+            n_phi: string.modes,
+            n_psi: 0,
+            snapshots: string.effective_snapshots(),
+        }),
+        _ => Err(scene
+            .validate()
+            .err()
+            .map_or("the scene needs exactly one model table".into(), |e| {
+                e.to_string()
+            })),
+    }
+}
 
 /// Builds the scene's model, renders it and returns the signals and the report. `progress`
 /// receives the fraction done.
@@ -15,32 +82,37 @@ pub fn render_scene(
     scene: &Scene,
     progress: impl FnMut(f64),
 ) -> Result<(Rendered, RenderReport), String> {
-    let plate = scene
-        .plate
-        .as_ref()
-        .ok_or("the scene has no model table ([plate])")?;
-    let mut voice = PlateVoice::build(plate)?;
+    let mut built = build_source(scene)?;
     let gain = 10f64.powf(scene.output.gain_db / 20.0);
-    let rendered = render(
-        &mut voice,
+    let rendered = render_with_shapes(
+        built.source.as_mut(),
         scene.output.seconds,
         scene.output.sample_rate,
         gain,
         ENERGY_POINTS,
+        &built.snapshots,
         progress,
     )?;
-    let info = voice.info().clone();
+    let source = built.source.as_ref();
     let s = &rendered.stats;
+    let mut details = source.report_extras();
+    if let Some(string) = &scene.string {
+        details.insert("f_max".into(), string.f_max().into());
+        details.insert(
+            "f_1".into(),
+            (string.params().omega(1) / std::f64::consts::TAU).into(),
+        );
+    }
     let report = RenderReport {
         scene: scene.name.clone(),
-        model: "plate".into(),
-        scheme: info.scheme.clone(),
-        conservative: voice.is_conservative(),
+        model: built.model.into(),
+        scheme: built.scheme.clone(),
+        conservative: source.is_conservative(),
         sample_rate: scene.output.sample_rate,
-        sim_rate: voice.sim_rate(),
+        sim_rate: source.sim_rate(),
         seconds: s.seconds,
-        n_phi: info.n_phi,
-        n_psi: info.n_psi,
+        n_phi: built.n_phi,
+        n_psi: built.n_psi,
         energy: s.energy.clone(),
         nan_count: s.nan_count,
         peak: s.peak,
@@ -55,7 +127,8 @@ pub fn render_scene(
                 spectral_centroid(&ch[ch.len() - n..], rate),
             ]
         },
-        details: voice.report_extras(),
+        contact: source.contact(),
+        details,
     };
     Ok((rendered, report))
 }

@@ -1,5 +1,7 @@
 //! The interface between a simulated model and the offline renderer.
 
+use serde::Serialize;
+
 /// Energy terms of a model at one instant, in joules.
 ///
 /// `total() = kinetic + linear + nonlinear` is the model's discrete energy; with losses and
@@ -31,6 +33,44 @@ impl EnergyTerms {
     }
 }
 
+/// The displacement of a one-dimensional model along its length at one instant, with the
+/// obstacle it may touch (for the shape plot). Built by the render thread (allocates).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ShapeSnapshot {
+    /// Simulated time of the snapshot (s).
+    pub time: f64,
+    /// Abscissae along the model (m), ends included.
+    pub x: Vec<f64>,
+    /// Displacement at `x` (m).
+    pub u: Vec<f64>,
+    /// Obstacle nodes `(x, g)` in m (empty without obstacle).
+    pub obstacle: Vec<(f64, f64)>,
+}
+
+/// Counters of a contact solver over a run, for the report.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct ContactSummary {
+    /// Largest penetration `η = g - u` seen (m; 0 if never in contact).
+    pub max_penetration: f64,
+    /// Largest Newton iteration count of any node-step.
+    pub newton_max_iterations: usize,
+    /// Node-steps that hit the iteration cap (solved by the stated fallback).
+    pub newton_failures: u64,
+    /// `newton_histogram[k]`: node-steps that took `k` iterations (`k = 0`: no contact
+    /// possible, closed form), up to the largest count seen.
+    pub newton_histogram: Vec<u64>,
+    /// Mean iterations over node-steps that needed at least one.
+    pub newton_mean_iterations: f64,
+    /// Iteration cap of the solver.
+    pub newton_cap: usize,
+    /// Relative step tolerance of the solver.
+    pub newton_tolerance: f64,
+    /// Steps with a non-zero contact force.
+    pub contact_steps: u64,
+    /// Grid nodes carrying an obstacle.
+    pub obstacle_nodes: usize,
+}
+
 /// A model the offline renderer can run: it advances at its own simulation rate and writes
 /// one value per output channel per step.
 ///
@@ -51,5 +91,21 @@ pub trait RenderSource {
     /// Model-specific figures for the report (solver counters, mode counts, ...).
     fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
         serde_json::Map::new()
+    }
+    /// Time (s) of output sample 0 of `channel` after the start of the motion (default 0): the
+    /// renderer shifts the resampled signal by it, so every WAV starts at t = 0 whatever the
+    /// simulation rate (otherwise a latency of a step or two would look like an O(h) error when
+    /// rates are compared).
+    fn output_delay(&self, _channel: usize) -> f64 {
+        0.0
+    }
+    /// Contact solver counters, for models with a contact (default: none).
+    fn contact(&self) -> Option<ContactSummary> {
+        None
+    }
+    /// The current shape along a one-dimensional model, `time` stamped (default: none, for
+    /// models without a 1-D shape). Called between blocks by the offline renderer; allocates.
+    fn shape(&self, _time: f64) -> Option<ShapeSnapshot> {
+        None
     }
 }

@@ -10,8 +10,10 @@
 
 pub mod overrides;
 pub mod plate;
+pub mod string;
 
 pub use plate::PlateScene;
+pub use string::StringScene;
 
 use crate::error::{check_closed, ParamError};
 use serde::{Deserialize, Serialize};
@@ -62,6 +64,9 @@ pub struct Scene {
     /// The plate model, when the scene is a plate or gong.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plate: Option<PlateScene>,
+    /// The stiff string model, when the scene is a sitar, tanpura or other string.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub string: Option<StringScene>,
 }
 
 /// Errors while loading a scene.
@@ -132,13 +137,48 @@ impl Scene {
     /// Checks every field's range; errors name the dotted field.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.output.validate()?;
-        match &self.plate {
-            Some(p) => p.validate(),
-            None => Err(ParamError::new(
+        match (&self.plate, &self.string) {
+            (Some(p), None) => p.validate(),
+            (None, Some(s)) => s.validate(),
+            (Some(_), Some(_)) => Err(ParamError::new(
+                "string",
+                "given with [plate]",
+                "exactly one model table: [plate] or [string]",
+            )),
+            (None, None) => Err(ParamError::new(
                 "plate",
                 "missing",
-                "a scene needs a model table: [plate]",
+                "a scene needs exactly one model table: [plate] or [string]",
             )),
         }
+    }
+
+    /// The model table's name (`plate` or `string`), the prefix of its dotted fields.
+    pub fn model_key(&self) -> &'static str {
+        if self.string.is_some() {
+            "string"
+        } else {
+            "plate"
+        }
+    }
+
+    /// The simulation rate of the scene's model (Hz).
+    pub fn sim_rate(&self) -> f64 {
+        match (&self.plate, &self.string) {
+            (Some(p), _) => p.sim_rate,
+            (None, Some(s)) => s.sim_rate,
+            (None, None) => 0.0,
+        }
+    }
+
+    /// Sets the simulation rate of the scene's model to `fs` (Hz) and re-validates.
+    pub fn set_sim_rate(&mut self, fs: f64) -> Result<(), ParamError> {
+        if let Some(p) = &mut self.plate {
+            p.sim_rate = fs;
+        }
+        if let Some(s) = &mut self.string {
+            s.sim_rate = fs;
+        }
+        self.validate()
     }
 }

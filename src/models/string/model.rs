@@ -1,7 +1,7 @@
 //! The stiff string model: build, initial conditions, the time step, energy and outputs.
 //! See the module doc of [`crate::models::string`] for the scheme and its energy proof.
 
-use super::contact::{solve_point, ContactLaw, ContactStats};
+use super::contact::{solve_point, ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 use super::exact::{exact_first_increment, ModeCoefficients};
 use super::excitation::{StrikeForce, TrianglePluck};
 use super::losses::Losses;
@@ -10,7 +10,7 @@ use super::output::{FieldView, OutputChannel, ResolvedOutput};
 use super::params::StringParams;
 use super::transform::ModalMap;
 use crate::error::ParamError;
-use crate::render::source::{EnergyTerms, RenderSource};
+use crate::render::source::{ContactSummary, EnergyTerms, RenderSource, ShapeSnapshot};
 
 /// Largest number of obstacle nodes for which the rows of `S⁻¹` are stored (memory
 /// `ROW_LIMIT · N_m` values); with more nodes the modal contact force goes through a DST.
@@ -108,6 +108,10 @@ pub struct StiffString {
     strike_shape: Vec<f64>,
     /// Resolved output channels.
     outputs: Vec<ResolvedOutput>,
+    /// Time index of `u^{n+1}` when the motion started: 1 after an initial condition (the
+    /// state is then `(u^1, u^0)`), 0 after a reset (at rest, a strike's force acts from the
+    /// next step). Gives the time of each output sample.
+    start_index: u64,
     /// Total obstacle force of the last step (N).
     obstacle_force: f64,
     /// Steps since the last initial condition.
@@ -180,6 +184,7 @@ impl StiffString {
             outputs,
             obstacle_force: 0.0,
             steps: 0,
+            start_index: 0,
         })
     }
 
@@ -197,6 +202,7 @@ impl StiffString {
         self.strike_time = 0.0;
         self.obstacle_force = 0.0;
         self.steps = 0;
+        self.start_index = 0;
     }
 
     /// Resets, then sets the initial modal displacement `q(0) = q0` and velocity `q̇(0) = v0`
@@ -221,6 +227,7 @@ impl StiffString {
         self.map.synthesis(&mut self.u_prev);
         self.u_now.copy_from_slice(&self.q);
         self.map.synthesis(&mut self.u_now);
+        self.start_index = 1;
     }
 
     /// Resets and sets the lecture's triangular pluck (zero velocity): `q(0) = S⁻¹ u0` of the
@@ -474,6 +481,59 @@ impl RenderSource for StiffString {
 
     fn is_conservative(&self) -> bool {
         true
+    }
+
+    /// Sample 0 is written after the first step, which computes `u^{s+1}` from `u^s`
+    /// (`s = start_index`): a displacement `u^{s+1}` lies at `(s+1)h`, a velocity
+    /// `(u^{s+1} - u^s)/h` is centred at `(s+½)h`, a bridge force `f^s` acts at `s h`.
+    fn output_delay(&self, channel: usize) -> f64 {
+        let s = self.start_index as f64;
+        match self.outputs.get(channel) {
+            Some(ResolvedOutput::ObstacleForce) => s * self.h,
+            Some(ResolvedOutput::Grid { quantity, .. })
+            | Some(ResolvedOutput::Modal { quantity, .. }) => match quantity {
+                super::output::Quantity::Displacement => (s + 1.0) * self.h,
+                super::output::Quantity::Velocity => (s + 0.5) * self.h,
+            },
+            None => 0.0,
+        }
+    }
+
+    fn contact(&self) -> Option<ContactSummary> {
+        let s = &self.stats;
+        let last = s.max_iterations();
+        Some(ContactSummary {
+            max_penetration: s.max_penetration,
+            newton_max_iterations: last,
+            newton_failures: s.cap_hits,
+            newton_histogram: s.histogram[..=last].to_vec(),
+            newton_mean_iterations: s.mean_iterations_in_contact(),
+            newton_cap: NEWTON_CAP,
+            newton_tolerance: NEWTON_TOL,
+            contact_steps: s.contact_steps,
+            obstacle_nodes: self.contact_nodes.len(),
+        })
+    }
+
+    fn shape(&self, time: f64) -> Option<ShapeSnapshot> {
+        let (dx, m) = (self.params.dx(), self.u_now.len());
+        let x = (0..=m + 1).map(|i| i as f64 * dx).collect();
+        let mut u = Vec::with_capacity(m + 2);
+        u.push(0.0);
+        u.extend_from_slice(&self.u_now);
+        u.push(0.0);
+        let obstacle = self
+            .contact_nodes
+            .iter()
+            .zip(&self.contact_g)
+            .map(|(&i, &g)| ((i + 1) as f64 * dx, g))
+            .collect();
+        Some(ShapeSnapshot {
+            time,
+            x,
+            u,
+            obstacle,
+        })
     }
 
     fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
