@@ -2,7 +2,10 @@
 //! and the cost of the modal precomputation.
 //!
 //! `cargo bench --bench plate_gong`. The README's table quotes criterion medians; a simulated
-//! second at fs costs `fs ×` the per-step time.
+//! second at fs costs `fs ×` the per-step time. Environment (optional, to run a subset):
+//! `NOETHER_BENCH_SCHEMES=sav,conservative` (scene scheme names, comma separated; default all
+//! four) and `NOETHER_BENCH_SIZES=100x30,1000x300` (`N_Φ x N_Ψ`; default
+//! 50x15, 100x30, 300x100, 1000x300).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use noether::modal::{CircularEdge, CircularPlateSpec, PlateModes};
@@ -35,12 +38,29 @@ excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.001, peak_for
     PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
 }
 
+/// The comma-separated list in `var`, or `default`.
+fn list(var: &str, default: &str) -> Vec<String> {
+    std::env::var(var)
+        .unwrap_or_else(|_| default.to_string())
+        .split(',')
+        .map(|s| s.trim().to_string())
+        .filter(|s| !s.is_empty())
+        .collect()
+}
+
 fn steps(c: &mut Criterion) {
     let mut g = c.benchmark_group("gong-step");
     g.sample_size(10);
     g.throughput(Throughput::Elements(STEPS as u64));
-    for (n_phi, n_psi) in [(50, 15), (100, 30), (200, 60), (400, 100), (1000, 300)] {
-        for scheme in ["conservative", "conservative-exact", "stormer-verlet"] {
+    let sizes = list("NOETHER_BENCH_SIZES", "50x15,100x30,300x100,1000x300");
+    let schemes = list(
+        "NOETHER_BENCH_SCHEMES",
+        "conservative,conservative-exact,stormer-verlet,sav",
+    );
+    for size in &sizes {
+        let (a, b) = size.split_once('x').expect("NOETHER_BENCH_SIZES: NxM");
+        let (n_phi, n_psi): (usize, usize) = (a.parse().unwrap(), b.parse().unwrap());
+        for scheme in &schemes {
             let mut v = voice(n_phi, n_psi, scheme);
             let mut out = vec![vec![0.0; STEPS]; v.channels()];
             // Past the strike, into the free decay.
@@ -59,6 +79,9 @@ fn steps(c: &mut Criterion) {
 }
 
 fn precompute(c: &mut Criterion) {
+    if std::env::var("NOETHER_BENCH_SKIP_PRECOMPUTE").is_ok() {
+        return;
+    }
     let mut g = c.benchmark_group("gong-precompute");
     g.sample_size(10);
     for (n_phi, n_psi) in [(100, 30), (1000, 300)] {

@@ -68,6 +68,7 @@ fn bench(c: &mut Criterion) {
                 PlateScheme::StormerVerletExact,
                 LinearSolve::Auto,
             ),
+            ("sav", PlateScheme::SavExact, LinearSolve::Auto),
         ] {
             let mut m = model(n_phi, scheme, solve);
             group.bench_function(format!("{label}/n_phi={n_phi}"), |b| {

@@ -1,5 +1,5 @@
 //! Energy, power balance, solver, exactness and backbone tests of the modal plate schemes
-//! (`noether::models::plate`), with one shared harness over the three schemes.
+//! (`noether::models::plate`), with one shared harness over the four schemes (SAV-specific tests in `plate_sav.rs`).
 //!
 //! Figures are printed with `--nocapture` for the report.
 
@@ -46,10 +46,11 @@ fn allocations() -> u64 {
 
 // ---------------------------------------------------------------- shared harness
 
-const ALL: [PlateScheme; 3] = [
+const ALL: [PlateScheme; 4] = [
     PlateScheme::ConservativeTheta1,
     PlateScheme::ConservativeExact,
     PlateScheme::StormerVerletExact,
+    PlateScheme::SavExact,
 ];
 const CONSERVATIVE: [PlateScheme; 2] = [
     PlateScheme::ConservativeTheta1,
@@ -184,6 +185,7 @@ fn name(s: PlateScheme) -> &'static str {
         PlateScheme::ConservativeTheta1 => "conservative θ=1",
         PlateScheme::ConservativeExact => "conservative exact",
         PlateScheme::StormerVerletExact => "Störmer-Verlet exact",
+        PlateScheme::SavExact => "SAV exact",
     }
 }
 
@@ -332,6 +334,7 @@ fn exact_linear_part_reproduces_the_modal_solution_at_any_h() {
     for scheme in [
         PlateScheme::ConservativeExact,
         PlateScheme::StormerVerletExact,
+        PlateScheme::SavExact,
     ] {
         for &(h, c) in &[
             (0.31, 0.0),
@@ -407,6 +410,7 @@ fn theta1_refuses_unstable_sampling_rates() {
     for scheme in [
         PlateScheme::ConservativeExact,
         PlateScheme::StormerVerletExact,
+        PlateScheme::SavExact,
     ] {
         p.scheme = scheme;
         assert!(PlateModel::new(&p, case.coupling(), vec![0.0; 4], vec![]).is_ok());

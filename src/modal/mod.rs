@@ -9,7 +9,8 @@
 //! - [`basis`]: [`PlateModes`] (modes, eigenvalues, tensor, `phi_at`) and [`CircularPlateSpec`];
 //! - [`circular`]: characteristic equations and radial profiles (Leissa 1969);
 //! - [`coupling`]: the geometry-independent sparse tensor [`CouplingTensor`] and its
-//!   allocation-free kernels (`contract_eta`, `apply_force`);
+//!   allocation-free kernels (`contract_eta`, `apply_force`, `coupling_matrix`,
+//!   `quartic_gradient`), streamed from a run layout (`coupling_runs.rs`);
 //! - [`assemble`]: tensor assembly for the circular plate (analytic angular integrals,
 //!   Gauss-Legendre radial quadrature, scoped threads);
 //! - [`cache`]: on-disk cache (`PlateModes::load_or_build`);
@@ -29,6 +30,7 @@ pub mod bessel;
 pub mod cache;
 pub mod circular;
 pub mod coupling;
+mod coupling_runs;
 pub mod quadrature;
 
 pub use angular::Parity;

@@ -34,6 +34,9 @@ pub enum PlateScheme {
     ConservativeExact,
     /// Störmer-Verlet with the exact linear part: explicit, cheap, NOT energy conserving.
     StormerVerlet,
+    /// Explicit energy-quadratised (scalar auxiliary variable) scheme, exact linear part:
+    /// conserves a modified energy, no linear solve (`scheme = "sav"`).
+    Sav,
 }
 
 /// Isotropic material; fields left out take the lecture's steel values.

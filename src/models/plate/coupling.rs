@@ -43,6 +43,20 @@ pub trait ModalCoupling: Send + Sync {
     fn apply_force(&self, q: &[f64], w: &[f64], out: &mut [f64]);
     /// Fills the dense row-major `N_Φ × N_Ψ` matrix `g[s * N_Ψ + l] = Σ_k H^l_{s,k} q_k`.
     fn coupling_matrix(&self, q: &[f64], g: &mut [f64]);
+    /// Optional fused kernel: `eta[l] = Σ_{i,j} H^l_{i,j} q_i q_j` and
+    /// `grad[s] = ∂/∂q_s Σ_l w_l eta_l² = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, with `scratch` of
+    /// length `N_Φ`. Returns `false` without writing anything when the implementation has no
+    /// fused kernel (the default; callers then use `contract_eta` and `apply_force`).
+    fn quartic_gradient(
+        &self,
+        _q: &[f64],
+        _w: &[f64],
+        _eta: &mut [f64],
+        _grad: &mut [f64],
+        _scratch: &mut [f64],
+    ) -> bool {
+        false
+    }
 }
 
 /// A dense coupling tensor stored as `N_Ψ × N_Φ × N_Φ` (`H^l_{i,j}` at

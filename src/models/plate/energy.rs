@@ -16,7 +16,8 @@ pub struct PlateEnergy {
     /// for θ = 1 and the exact-scheme value otherwise (a modified energy, see [`super`]).
     pub linear: f64,
     /// Nonlinear (in-plane) energy `u = (1/2Eh) Σ_l ζ_l⁴ (μ_{t-}η_l(n))²` (J), with
-    /// `μ_{t-}η_l(n) = -(Eh/2ζ_l⁴) Σ H^l_{ij} q_i(n) q_j(n-1)`.
+    /// `μ_{t-}η_l(n) = -(Eh/2ζ_l⁴) Σ H^l_{ij} q_i(n) q_j(n-1)`; for the SAV scheme the
+    /// quadratised `ψ(n-½)²/2` instead.
     pub nonlinear: f64,
     /// Cumulative energy removed by damping since the initial state,
     /// `Σ_m h ρh Σ_s c̃_s (δ_{t.} q_s(m))²` (J), exactly as the discrete identity gives.

@@ -79,6 +79,11 @@
 //! gong code). No energy identity holds (SEED 1.3: Störmer-Verlet on Duffing is not
 //! conservative); [`PlateEnergy`] reports the same `t + v + u` so the drift can be measured.
 //!
+//! # Energy-quadratised explicit scheme ([`PlateScheme::SavExact`])
+//!
+//! The potential `u` written as `ψ²/2` with `ψ` a state; exact linear part; one rank-one
+//! update per step; conserves `t + v + ψ²/2` (derivation, stability and references in `sav.rs`).
+//!
 //! Threads: everything is built on a worker thread; [`PlateModel::step`] and
 //! [`PlateModel::process`] run on the audio thread without allocating.
 
@@ -88,6 +93,7 @@ pub mod excitation;
 mod linalg;
 pub mod model;
 pub mod params;
+mod sav;
 mod sparse;
 pub mod voice;
 

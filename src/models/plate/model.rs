@@ -1,4 +1,4 @@
-//! [`PlateModel`]: state, lifecycle and the per-step update of the three plate schemes
+//! [`PlateModel`]: state, lifecycle and the per-step update of the four plate schemes
 //! (equations and energy proofs in [`super`]).
 //!
 //! Lifecycle: [`PlateModel::new`] validates and allocates everything (worker thread);
@@ -15,6 +15,7 @@ use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
+use super::sav::{SavCoefficients, SavStep};
 use crate::error::{check_finite, ParamError};
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
@@ -95,6 +96,8 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     f: Vec<f64>,
     w: Vec<f64>,
     solver: Option<SpdSolver>,
+    /// Auxiliary state and scratch of the SAV scheme (`None` for the other schemes).
+    sav: Option<SavStep>,
     energy: PlateEnergy,
     track_energy: bool,
     diverged: bool,
@@ -132,8 +135,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             .map(|z| kappa * kappa * params.e_h / (4.0 * rho_h * z))
             .collect();
         let solver = match params.scheme {
-            PlateScheme::StormerVerletExact => None,
-            _ => {
+            PlateScheme::StormerVerletExact | PlateScheme::SavExact => None,
+            PlateScheme::ConservativeTheta1 | PlateScheme::ConservativeExact => {
                 let route = match params.solve {
                     LinearSolve::Woodbury => Route::Woodbury,
                     LinearSolve::Direct => Route::Direct,
@@ -170,11 +173,16 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             q_next: vec![0.0; nf],
             b_half: vec![0.0; np],
             b_next: vec![0.0; np],
-            g: vec![0.0; nf * np],
+            g: if params.scheme == PlateScheme::SavExact {
+                Vec::new()
+            } else {
+                vec![0.0; nf * np]
+            },
             r: vec![0.0; nf],
             f: vec![0.0; nf],
             w: vec![0.0; np],
             solver,
+            sav: (params.scheme == PlateScheme::SavExact).then(|| SavStep::new(nf, np)),
             energy: PlateEnergy::default(),
             track_energy: true,
             diverged: false,
@@ -189,6 +197,9 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             v.fill(0.0);
         }
         self.b_half.fill(0.0);
+        if let Some(sav) = self.sav.as_mut() {
+            sav.psi = 0.0;
+        }
         self.outputs.fill(0.0);
         self.energy = PlateEnergy::default();
         self.diverged = false;
@@ -217,6 +228,11 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.coupling
             .contract_eta(&self.q, &self.q_prev, &mut self.b_half);
+        if let Some(sav) = self.sav.as_mut() {
+            // ψ(-½) = √(2u) with the conservative schemes' half-step u = Σ u_l Ĥ(q0, q(-1))_l²
+            // (an O(h²)-consistent start; the same initial energy as those schemes).
+            sav.psi = SavStep::psi_from(&self.u_coef, &self.b_half);
+        }
         if self.track_energy {
             self.update_stored_energy(true);
         }
@@ -248,6 +264,59 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         let h2 = self.h * self.h;
         let fscale = h2 * force / self.rho_h;
+        if let Some(sav) = self.sav.as_mut() {
+            let k = SavCoefficients {
+                inv_a: &self.inv_a,
+                b: &self.b,
+                d: &self.d,
+                force_weights: &self.force_weights,
+                u_coef: &self.u_coef,
+                h2_over_rho_h: h2 / self.rho_h,
+            };
+            sav.step(
+                &*self.coupling,
+                &k,
+                &self.q,
+                &self.q_prev,
+                fscale,
+                &mut self.q_next,
+            );
+        } else if self.linearly_implicit_step(fscale).is_err() {
+            return Err(self.fail());
+        }
+        if !self.q_next.iter().all(|x| x.is_finite()) || !force.is_finite() {
+            return Err(self.fail());
+        }
+        if self.track_energy {
+            self.update_power(force);
+        }
+        for (out, p) in self.outputs.iter_mut().zip(&self.pickups) {
+            *out = p
+                .weights
+                .iter()
+                .zip(self.q_next.iter().zip(self.q.iter().zip(&self.q_prev)))
+                .map(|(&phi, (&qn, (&qc, &qp)))| {
+                    phi * match p.kind {
+                        PickupKind::Displacement => qn,
+                        PickupKind::VelocityCentred => (qn - qp) / (2.0 * self.h),
+                        PickupKind::VelocityBackward => (qn - qc) / self.h,
+                    }
+                })
+                .sum();
+        }
+        std::mem::swap(&mut self.q_prev, &mut self.q);
+        std::mem::swap(&mut self.q, &mut self.q_next);
+        std::mem::swap(&mut self.b_half, &mut self.b_next);
+        self.energy.step += 1;
+        if self.track_energy {
+            self.update_stored_energy(false);
+        }
+        Ok(())
+    }
+
+    /// `q(n+1)` of the conservative (`solver` present) or Störmer-Verlet scheme, and
+    /// `Ĥ(q(n+1), q(n))` into `b_next`. `fscale = h² F(n)/ρh`. Errors when the solve fails.
+    fn linearly_implicit_step(&mut self, fscale: f64) -> Result<(), ()> {
         let nf = self.q.len();
         let np = self.b_half.len();
         // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} q_k(n).
@@ -299,7 +368,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                     )
                     .is_err()
                 {
-                    return Err(self.fail());
+                    return Err(());
                 }
             }
         }
@@ -309,33 +378,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             for (bn, &gv) in self.b_next.iter_mut().zip(grow) {
                 *bn += gv * x;
             }
-        }
-        if !self.q_next.iter().all(|x| x.is_finite()) || !force.is_finite() {
-            return Err(self.fail());
-        }
-        if self.track_energy {
-            self.update_power(force);
-        }
-        for (out, p) in self.outputs.iter_mut().zip(&self.pickups) {
-            *out = p
-                .weights
-                .iter()
-                .zip(self.q_next.iter().zip(self.q.iter().zip(&self.q_prev)))
-                .map(|(&phi, (&qn, (&qc, &qp)))| {
-                    phi * match p.kind {
-                        PickupKind::Displacement => qn,
-                        PickupKind::VelocityCentred => (qn - qp) / (2.0 * self.h),
-                        PickupKind::VelocityBackward => (qn - qc) / self.h,
-                    }
-                })
-                .sum();
-        }
-        std::mem::swap(&mut self.q_prev, &mut self.q);
-        std::mem::swap(&mut self.q, &mut self.q_next);
-        std::mem::swap(&mut self.b_half, &mut self.b_next);
-        self.energy.step += 1;
-        if self.track_energy {
-            self.update_stored_energy(false);
         }
         Ok(())
     }
@@ -409,6 +451,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         (self.omega_sq[s], self.c_eff[s])
     }
 
+    /// The SAV scheme's auxiliary variable `ψ(n-½)` (√J; `ψ²/2` is its in-plane energy, an
+    /// `O(h²)` approximation of `U(q)`), `None` for the other schemes. Any thread owning the model.
+    pub fn sav_psi(&self) -> Option<f64> {
+        self.sav.as_ref().map(|s| s.psi)
+    }
+
     /// The shared coupling.
     pub fn coupling(&self) -> &Arc<C> {
         &self.coupling
@@ -462,12 +510,15 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.energy.kinetic = 0.5 * rho_h * t;
         self.energy.linear = 0.5 * rho_h * v;
-        self.energy.nonlinear = self
-            .u_coef
-            .iter()
-            .zip(&self.b_half)
-            .map(|(c, b)| c * b * b)
-            .sum();
+        self.energy.nonlinear = match &self.sav {
+            Some(sav) => 0.5 * sav.psi * sav.psi,
+            None => self
+                .u_coef
+                .iter()
+                .zip(&self.b_half)
+                .map(|(c, b)| c * b * b)
+                .sum(),
+        };
         if reset_accumulators {
             self.energy.dissipated = 0.0;
             self.energy.work = 0.0;

@@ -22,6 +22,11 @@ pub enum PlateScheme {
     /// Explicit Störmer-Verlet treatment of the nonlinearity (in-plane amplitudes from `q(n)`
     /// only) with the exact linear part, as in the lecture's gong code. NOT energy conserving.
     StormerVerletExact,
+    /// Explicit energy-quadratised (scalar auxiliary variable) scheme with the exact linear part
+    /// (Bilbao, Ducceschi, Zama, J. Comput. Phys. 2023; see `sav.rs`): a rank-one
+    /// (Sherman-Morrison) update per step, no linear solve. Modified energy
+    /// `t + v + ψ²/2` conserved to round-off; stable for every `h` (away from `ω_s h = kπ`).
+    SavExact,
 }
 
 impl PlateScheme {
@@ -33,6 +38,12 @@ impl PlateScheme {
     /// Whether the scheme conserves its discrete energy exactly (without losses and forcing).
     pub fn is_conservative(self) -> bool {
         !matches!(self, Self::StormerVerletExact)
+    }
+
+    /// Whether each step solves the `N_Φ`-dimensional linear system (Woodbury or direct);
+    /// false for the explicit schemes (Störmer-Verlet, SAV).
+    pub fn solves_linear_system(self) -> bool {
+        matches!(self, Self::ConservativeTheta1 | Self::ConservativeExact)
     }
 }
 

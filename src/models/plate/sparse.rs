@@ -20,21 +20,20 @@ impl ModalCoupling for CouplingTensor {
         CouplingTensor::apply_force(self, q, w, out);
     }
 
-    /// `G_{s,l} = Σ_k H^l_{s,k} q_k`, row-major `N_Φ × N_Ψ`, from the stored `j ≤ i` entries
-    /// (each off-diagonal entry contributes to rows `i` and `j`). Allocation-free.
     fn coupling_matrix(&self, q: &[f64], g: &mut [f64]) {
-        let np = CouplingTensor::n_psi(self);
-        g.fill(0.0);
-        for l in 0..np {
-            let (is, js, vs) = self.row(l);
-            for ((&i, &j), &v) in is.iter().zip(js).zip(vs) {
-                let (i, j) = (i as usize, j as usize);
-                g[i * np + l] += v * q[j];
-                if i != j {
-                    g[j * np + l] += v * q[i];
-                }
-            }
-        }
+        CouplingTensor::coupling_matrix(self, q, g);
+    }
+
+    fn quartic_gradient(
+        &self,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) -> bool {
+        CouplingTensor::quartic_gradient(self, q, w, eta, grad, scratch);
+        true
     }
 }
 

@@ -164,6 +164,7 @@ impl PlateVoice {
             SceneScheme::Conservative => PlateScheme::ConservativeTheta1,
             SceneScheme::ConservativeExact => PlateScheme::ConservativeExact,
             SceneScheme::StormerVerlet => PlateScheme::StormerVerletExact,
+            SceneScheme::Sav => PlateScheme::SavExact,
         };
         let params = PlateParams {
             omega: omega.clone(),
@@ -256,6 +257,7 @@ impl PlateVoice {
                 SceneScheme::Conservative => "conservative",
                 SceneScheme::ConservativeExact => "conservative-exact",
                 SceneScheme::StormerVerlet => "stormer-verlet",
+                SceneScheme::Sav => "sav",
             }
             .into(),
         };

@@ -1,0 +1,96 @@
+//! Real-time factor of one gong voice (issue 6 target (a)): the lecture's material, a = 0.4 m,
+//! h = 1 mm, free edge, 10 ms strike at 40 N, power-law damping, simulated at `fs` (default
+//! 48 kHz), on one thread.
+//!
+//! `cargo run --release --example gong_rtf -- SCHEME FS N_PHI[:N_PSI] ...`, for example
+//! `cargo run --release --example gong_rtf -- sav 48000 100 300:90 600`. `N_PSI` defaults to
+//! `0.3 N_PHI` (the README's tables). For each size: build (modal data cached on disk), run
+//! 0.1 s past the strike, then time three runs of 0.5 s of simulated sound; prints the median
+//! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1).
+//! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
+//! callgrind with a few steps).
+
+use std::time::Instant;
+
+use noether::models::plate::voice::PlateVoice;
+use noether::render::source::RenderSource;
+use noether::scene::Scene;
+
+fn voice(scheme: &str, fs: f64, n_phi: usize, n_psi: usize) -> PlateVoice {
+    let text = format!(
+        r#"
+[output]
+sample_rate = 48000
+seconds = 1.0
+[plate]
+shape = "circular-free"
+radius = 0.4
+thickness = 0.001
+n_phi = {n_phi}
+n_psi = {n_psi}
+sim_rate = {fs}
+scheme = "{scheme}"
+damping = {{ law = "power", a = 0.005, b = 0.6 }}
+excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
+"#
+    );
+    let scene = Scene::from_toml(&text, "gong_rtf", &[]).expect("scene");
+    PlateVoice::build(scene.plate.as_ref().expect("plate")).expect("voice")
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.len() < 3 {
+        eprintln!("usage: gong_rtf SCHEME FS N_PHI[:N_PSI] ...");
+        std::process::exit(2);
+    }
+    let scheme = &args[0];
+    let fs: f64 = args[1].parse().expect("FS: a number (Hz)");
+    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf");
+    for size in &args[2..] {
+        let (n_phi, n_psi) = match size.split_once(':') {
+            Some((a, b)) => (a.parse().expect("N_PHI"), b.parse().expect("N_PSI")),
+            None => {
+                let n: usize = size.parse().expect("N_PHI");
+                (n, ((0.3 * n as f64).round() as usize).max(1))
+            }
+        };
+        let mut v = voice(scheme, fs, n_phi, n_psi);
+        let block = 256;
+        let secs = |var: &str, default: f64| -> f64 {
+            std::env::var(var)
+                .ok()
+                .map_or(default, |s| s.parse().expect("seconds"))
+        };
+        let block = block
+            .min((secs("GONG_RTF_SECONDS", 0.5) * fs) as usize)
+            .max(1);
+        let mut out = vec![vec![0.0; block]; v.channels()];
+        let warm = (secs("GONG_RTF_WARM", 0.1) * fs) as usize / block;
+        for _ in 0..warm {
+            v.process(&mut out, block);
+        }
+        let blocks = ((secs("GONG_RTF_SECONDS", 0.5) * fs) as usize / block).max(1);
+        let mut times: Vec<f64> = (0..3)
+            .map(|_| {
+                let t = Instant::now();
+                for _ in 0..blocks {
+                    v.process(&mut out, block);
+                }
+                t.elapsed().as_secs_f64()
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        let steps = (blocks * block) as f64;
+        let per_step = times[1] / steps;
+        println!(
+            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}",
+            per_step * 1e6,
+            1.0 / (per_step * fs)
+        );
+        assert!(
+            out.iter().flatten().all(|x| x.is_finite()),
+            "non-finite output"
+        );
+    }
+}
