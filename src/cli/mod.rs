@@ -4,6 +4,7 @@
 mod lab;
 mod modes;
 mod render;
+mod stress;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -26,6 +27,8 @@ pub enum Command {
     Render(render::RenderArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
+    /// Sweep every model and scheme over extreme parameters and print the summary table.
+    Stress(stress::StressArgs),
 }
 
 /// Parses the process arguments and runs the command.
@@ -35,6 +38,7 @@ pub fn main() -> ExitCode {
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
         Some(Command::Render(args)) => render::run(args),
+        Some(Command::Stress(args)) => stress::run(args),
         None => render::run_default(),
     };
     match result {
