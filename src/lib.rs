@@ -20,6 +20,8 @@
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
 //! - [`modal_rect`]: modal data of the simply supported rectangular von Kármán plate (closed-form
 //!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
+//! - [`stress`]: sweeps of every model and scheme over extreme parameters (`tests/extremes.rs`,
+//!   `noether stress`);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
@@ -36,5 +38,6 @@ pub mod plot;
 pub mod render;
 pub mod scene;
 pub mod schemes;
+pub mod stress;
 
 pub use error::ParamError;

@@ -156,7 +156,7 @@ fn exact_scheme_samples_equal_exact_solution() {
 fn stability_boundary_of_the_theta_family() {
     // Just below h ω0 = 2/√(2θ-1) the θ-scheme with v0 = 0 is the discrete sinusoid
     // u_n = cos(n ω_d h) (exact start), so |u_n| ≤ 1 up to round-off (1e-9 margin); just above,
-    // the recurrence root exceeds 1 in modulus and 2000 steps grow |u| beyond 1e6. For θ ≤ ½
+    // the recurrence root exceeds 1 in modulus, so construction refuses the step. For θ ≤ ½
     // (limit infinite) h ω0 = 100 stays bounded. The conservative Duffing schemes share the
     // linear limit of θ1 (SEED.md 1.3): below it their linear energy part is positive definite,
     // `(1 + (1-θ)w/2)/(2h²) (u² + p² - 2c u p) ≥ (1 + (1-θ)w/2)(1 - |c|)/(2h²) (u² + p²)` and the
@@ -168,9 +168,14 @@ fn stability_boundary_of_the_theta_family() {
         let (_, u) = simulate(&theta(w, th), h, 1.0, 0.0, 100_000);
         let peak = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         assert!(peak <= 1.0 + 1e-9, "theta {th} below limit: peak {peak}");
-        let (_, u) = simulate(&theta(w, th), 1.001 * limit / w, 1.0, 0.0, 2000);
-        let peak = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        assert!(peak > 1e6, "theta {th} above limit: peak {peak}");
+        // Just above the limit the scheme would explode (a recurrence root of modulus > 1):
+        // construction refuses the step with an error naming `h` and the limit.
+        let e = build_oscillator(&theta(w, th), 1.001 * limit / w)
+            .err()
+            .expect("unstable step refused");
+        assert_eq!(e.field, "h");
+        assert!(e.allowed.contains(&format!("{}", limit / w)), "{e}");
+        assert!(theta_frequency(th, 1.001 * limit / w, w).is_none());
         for &th2 in &[1.0, 0.0] {
             let mut s = build_oscillator(&duffing(w, 5.0, th, th2), h).unwrap();
             s.reset(1.0, 0.0);

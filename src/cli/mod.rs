@@ -5,6 +5,7 @@ mod accuracy;
 mod lab;
 mod modes;
 mod render;
+mod stress;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -30,6 +31,8 @@ pub enum Command {
     Accuracy(accuracy::AccuracyArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
+    /// Sweep every model and scheme over extreme parameters and print the summary table.
+    Stress(stress::StressArgs),
 }
 
 /// Parses the process arguments and runs the command.
@@ -40,6 +43,7 @@ pub fn main() -> ExitCode {
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
         Some(Command::Render(args)) => render::run(args),
+        Some(Command::Stress(args)) => stress::run(args),
         None => render::run_default(),
     };
     match result {

@@ -3,6 +3,7 @@
 use super::{max_abs_difference, Duration, Summary, Trace};
 use crate::analysis::{analytic, energy::max_relative_drift, frequency};
 use crate::error::{check_finite, check_positive, ParamError};
+use crate::schemes::duffing::DuffingVerlet;
 use crate::schemes::{build_oscillator, OscillatorSpec, OscillatorStepper, StepperStats};
 
 /// Step refinement of the reference run used when no closed-form solution exists.
@@ -76,6 +77,9 @@ impl OscillatorExperiment {
         check_finite("v0", self.v0)?;
         let steps = self.steps()?;
         let mut stepper = build_oscillator(&self.spec, self.h)?;
+        if let OscillatorSpec::DuffingVerlet { omega0, gamma } = self.spec {
+            DuffingVerlet::new(omega0, gamma, self.h)?.check_amplitude(self.u0, self.v0)?;
+        }
         let (mut trace, stats) = record(stepper.as_mut(), self.u0, self.v0, steps, 1);
         let (reference, label) = self.reference(&trace.t, steps)?;
         trace.reference_label = label;

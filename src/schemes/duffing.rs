@@ -28,6 +28,7 @@
 //! exact symmetric start of the explicit schemes (and of the θ-scheme when `γ = 0`) and a
 //! second-order accurate one for `θ2 < 1`.
 
+use super::linear::check_stable_step;
 use super::{OscillatorStepper, StepperStats};
 use crate::error::{check_closed, check_non_negative, check_positive, ParamError};
 
@@ -137,6 +138,9 @@ impl DuffingVerlet {
         check_positive("omega0", omega0)?;
         check_non_negative("gamma", gamma)?;
         check_positive("h", h)?;
+        // Linearised about rest the scheme is the θ = 1 one: stable only for h ω0 < 2. The
+        // cubic term lowers the limit with the amplitude (see [`Self::check_amplitude`]).
+        check_stable_step(h, omega0, 1.0, "theta (Störmer-Verlet is θ = 1)")?;
         Ok(Self {
             omega0,
             gamma,
@@ -145,6 +149,38 @@ impl DuffingVerlet {
             d: 0.0,
             n: 0,
         })
+    }
+
+    /// Refuses initial conditions whose motion is too large for this step: Störmer-Verlet
+    /// linearised about the turning point `u = A` (the amplitude of the free motion with
+    /// energy `H0 = ½v0² + ½ω0²u0² + ¼γu0⁴`) is the θ = 1 scheme with the local stiffness
+    /// `ω0² + 3γA²`, which is stable only for `h²(ω0² + 3γA²) < 4` (SEED.md 1.1, 1.3). Beyond
+    /// it the iteration explodes within a few periods, so a caller that knows the initial
+    /// conditions (the lab) checks them here. Errors name `u0` (or `v0` when `u0 = 0`).
+    pub fn check_amplitude(&self, u0: f64, v0: f64) -> Result<(), ParamError> {
+        let w2 = self.omega0 * self.omega0;
+        let h0 = 0.5 * v0 * v0 + 0.5 * w2 * u0 * u0 + 0.25 * self.gamma * u0.powi(4);
+        let a2 = if self.gamma > 0.0 {
+            4.0 * h0 / (w2 + (w2 * w2 + 4.0 * self.gamma * h0).sqrt())
+        } else {
+            2.0 * h0 / w2
+        };
+        let local = self.h * self.h * (w2 + 3.0 * self.gamma * a2);
+        if local.is_finite() && local < 4.0 {
+            return Ok(());
+        }
+        let (field, value) = if u0 != 0.0 { ("u0", u0) } else { ("v0", v0) };
+        Err(ParamError::new(
+            field,
+            value,
+            format!(
+                "initial conditions with amplitude A = {} below {} (Störmer-Verlet stability \
+                 h²(ω0² + 3γA²) < 4 at h = {}); use a smaller h or the conservative scheme",
+                a2.sqrt(),
+                (((4.0 / (self.h * self.h) - w2) / (3.0 * self.gamma)).max(0.0)).sqrt(),
+                self.h
+            ),
+        ))
     }
 
     /// Second difference `q = -h²(ω0² u + γ u³)` of the scheme at displacement `u`.
@@ -254,6 +290,8 @@ impl DuffingConservative {
         check_closed("theta1", theta1, 0.0, 1.0)?;
         check_closed("theta2", theta2, 0.0, 1.0)?;
         check_positive("h", h)?;
+        // The energy's linear part is positive definite only below the θ1 limit (SEED.md 1.3).
+        check_stable_step(h, omega0, theta1, "theta1")?;
         let w = h * h * omega0 * omega0;
         Ok(Self {
             omega0,

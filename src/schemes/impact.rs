@@ -39,6 +39,7 @@
 //! contact ignores the contact force in this history.
 
 use super::duffing::{record, solve_increasing};
+use super::linear::check_stable_step;
 use super::{OscillatorStepper, StepperStats};
 use crate::error::{check_closed, check_finite, check_non_negative, check_positive, ParamError};
 
@@ -103,6 +104,11 @@ impl ImpactScheme {
         check_finite("gap", gap)?;
         check_closed("theta", theta, 0.0, 1.0)?;
         check_positive("h", h)?;
+        if stiffness > 0.0 {
+            // The contact term is a discrete gradient (energy ≥ 0 for any h); the linear
+            // spring's part of the energy is positive definite only below the θ limit.
+            check_stable_step(h, (stiffness / mass).sqrt(), theta, "theta")?;
+        }
         let w = h * h * stiffness / mass;
         Ok(Self {
             mass,

@@ -54,6 +54,33 @@ pub fn stability_limit(theta: f64) -> f64 {
     }
 }
 
+/// Refuses a step `h` at or beyond the θ-family's stability limit for the linear frequency
+/// `omega0` (`h ω0 <` [`stability_limit`]`(θ)`, SEED.md 1.1); `theta_field` names the θ being
+/// checked in the message (`theta`, `theta1`). Past the limit the recurrence has a root of
+/// modulus > 1 and the discrete energy is indefinite, so the run would explode: constructors
+/// call this instead of building an exploding scheme. Runs on the configuration thread.
+pub fn check_stable_step(
+    h: f64,
+    omega0: f64,
+    theta: f64,
+    theta_field: &str,
+) -> Result<(), ParamError> {
+    let limit = stability_limit(theta);
+    if h * omega0 < limit {
+        return Ok(());
+    }
+    Err(ParamError::new(
+        "h",
+        h,
+        format!(
+            "h < {} = 2/(ω0 √(2θ-1)) for {theta_field} = {theta}, ω0 = {omega0} (the θ-scheme is \
+             only conditionally stable for θ > 1/2, SEED.md 1.1; lower {theta_field} to 1/2 or \
+             below for unconditional stability)",
+            limit / omega0
+        ),
+    ))
+}
+
 /// θ-scheme stepper for `ü + ω0² u = 0`.
 ///
 /// Built once (validates, no allocation at all), then owned and stepped by one thread.
@@ -76,14 +103,16 @@ pub struct ThetaScheme {
 }
 
 impl ThetaScheme {
-    /// Builds the scheme; `omega0 > 0`, `theta` in [0, 1], `h > 0`, all finite. Starts at rest
-    /// (`u0 = v0 = 0`) until [`OscillatorStepper::reset`] is called.
+    /// Builds the scheme; `omega0 > 0`, `theta` in [0, 1], `h > 0`, all finite, and `h ω0`
+    /// below the stability limit ([`check_stable_step`]). Starts at rest (`u0 = v0 = 0`) until
+    /// [`OscillatorStepper::reset`] is called.
     pub fn new(omega0: f64, theta: f64, h: f64) -> Result<Self, ParamError> {
         check_positive("omega0", omega0)?;
         check_closed("theta", theta, 0.0, 1.0)?;
         check_positive("h", h)?;
         let w = h * h * omega0 * omega0;
         check_positive("h*omega0", w)?;
+        check_stable_step(h, omega0, theta, "theta")?;
         Ok(Self {
             omega0,
             theta,

@@ -372,6 +372,9 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 }
             }
         }
+        // Decayed modes go to exactly zero instead of through the subnormal range (see
+        // `FLUSH_TO_ZERO_BELOW`); done before Ĥ(q⁺, q) so the energy stays consistent.
+        crate::models::flush_tiny(&mut self.q_next);
         // Ĥ(q⁺, q) = Gᵀ q⁺ (H symmetric): u(n+1), and the next step's Ĥ(q, q⁻).
         self.b_next.fill(0.0);
         for (grow, &x) in self.g.chunks_exact(np.max(1)).zip(&self.q_next) {
@@ -460,6 +463,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// The shared coupling.
     pub fn coupling(&self) -> &Arc<C> {
         &self.coupling
+    }
+
+    /// Whether the state became non-finite (see [`Diverged`]); the model then outputs zeros
+    /// until [`Self::reset`] or [`Self::set_state`]. Any thread that owns the model.
+    pub fn is_diverged(&self) -> bool {
+        self.diverged
     }
 
     /// Marks the model diverged and zeroes its outputs.

@@ -353,9 +353,17 @@ impl StiffString {
             }
             self.work += 0.5 * fe * w;
         }
-        // 6. Rotate.
-        for (q, d) in self.q.iter_mut().zip(&self.dq_next) {
-            *q += d;
+        // 6. Rotate; decayed modes go to exactly zero instead of through the subnormal range
+        //    (see `FLUSH_TO_ZERO_BELOW`; the grid values are sums of these, so they follow).
+        //    A mode is flushed only when both q and Δ are tiny: flushing Δ alone would freeze a
+        //    slowly decaying q, flushing q alone would leave Δ decaying into subnormals.
+        for (q, d) in self.q.iter_mut().zip(self.dq_next.iter_mut()) {
+            *q += *d;
+            let t = crate::models::FLUSH_TO_ZERO_BELOW;
+            if q.abs() < t && d.abs() < t {
+                *q = 0.0;
+                *d = 0.0;
+            }
         }
         std::mem::swap(&mut self.dq, &mut self.dq_next);
         std::mem::swap(&mut self.u_prev, &mut self.u_now);

@@ -1,0 +1,287 @@
+//! Hostile input (issue 7): a proptest fuzz of the scene parser and of model construction.
+//!
+//! Scene fuzz: a shipped scene is mutated by random `--set` overrides (the CLI's own route:
+//! unknown fields, wrong types, NaN/Inf, negative and zero sizes, absurd mode counts, valid
+//! values that reach deeper validation), line deletions and truncation, then parsed. Never a
+//! panic; every error is either a parse error with a location (`line N, column M`, or the
+//! dotted path of the field in backticks) or a range error naming field, value and allowed
+//! range. A scene that parses and is small enough to build quickly is built into a voice and run
+//! for a few steps: its outputs must be finite.
+//!
+//! Model fuzz: the stiff string built from arbitrary floats (NaN, infinities, negatives,
+//! zeros, huge) and grid sizes: a clear `ParamError` or a model that steps.
+//!
+//! Bounded: `PROPTEST_CASES` (default 256 scene cases, 256 string cases) keeps it to a few
+//! seconds at opt-level 3.
+
+use noether::models::plate::voice::PlateVoice;
+use noether::models::string::{
+    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
+    Stiffness, StringConfig, StringParams, TrianglePluck,
+};
+use noether::render::source::RenderSource;
+use noether::scene::{Scene, SceneError};
+use proptest::prelude::*;
+
+const BASES: &[&str] = &[
+    include_str!("../assets/scenes/gong.toml"),
+    include_str!("../assets/scenes/seed-rect-energy.toml"),
+    include_str!("../assets/scenes/seed-gong-40N.toml"),
+];
+
+/// Field paths the overrides aim at: every scene field, plus unknown ones.
+const PATHS: &[&str] = &[
+    "name",
+    "description",
+    "output.sample_rate",
+    "output.seconds",
+    "output.gain_db",
+    "plate.shape",
+    "plate.radius",
+    "plate.lx",
+    "plate.ly",
+    "plate.thickness",
+    "plate.material.youngs_modulus",
+    "plate.material.density",
+    "plate.material.poisson",
+    "plate.n_phi",
+    "plate.n_psi",
+    "plate.sim_rate",
+    "plate.scheme",
+    "plate.damping",
+    "plate.damping.law",
+    "plate.damping.a",
+    "plate.damping.b",
+    "plate.damping.c0",
+    "plate.damping.q",
+    "plate.damping.seconds",
+    "plate.excitation",
+    "plate.excitation.kind",
+    "plate.excitation.at",
+    "plate.excitation.at.r",
+    "plate.excitation.at.angle",
+    "plate.excitation.at.x",
+    "plate.excitation.at.y",
+    "plate.excitation.duration",
+    "plate.excitation.peak_force",
+    "plate.excitation.impulse",
+    "plate.excitation.mode",
+    "plate.excitation.displacement",
+    "plate.excitation.velocity",
+    "plate.pickups",
+    "plate",
+    "output",
+    "bogus",
+    "plate.bogus",
+    "output.bogus",
+    "plate.material.bogus",
+    "plate.excitation.at.bogus",
+];
+
+/// Values, raw as on the command line: hostile ones and valid ones that get deeper.
+const VALUES: &[&str] = &[
+    "nan",
+    "inf",
+    "-inf",
+    "-1.0",
+    "0",
+    "0.0",
+    "-0.0",
+    "1e308",
+    "-1e308",
+    "1e-320",
+    "9223372036854775807",
+    "-9223372036854775808",
+    "4001",
+    "1000000000",
+    "\"text\"",
+    "true",
+    "[1, 2]",
+    "{ a = 1 }",
+    "{}",
+    "[]",
+    "",
+    "=",
+    "0.3",
+    "0.001",
+    "1",
+    "2",
+    "3",
+    "8000",
+    "4000000",
+    "rect-ss",
+    "circular-clamped",
+    "circular-free",
+    "stormer-verlet",
+    "conservative",
+    "conservative-exact",
+    "impulse",
+    "initial",
+    "strike",
+    "power",
+    "q",
+    "t60",
+    "none",
+    "{ r = 0.5, angle = 1e300 }",
+    "{ x = 0.5, y = 0.5 }",
+    "[{ at = { r = 0.5 } }]",
+    "[{ at = { x = 2.0, y = 0.5 }, quantity = \"velocity\" }]",
+    "{ law = \"power\", a = 1e300, b = 2.0 }",
+    "{ law = \"q\", q = 1 }",
+    "{ kind = \"initial\", mode = 1, displacement = 1.0, velocity = 1e4 }",
+    "{ kind = \"impulse\", at = { r = 0.0 }, impulse = 1000.0 }",
+    "{ kind = \"strike\", at = { r = 1.0 }, duration = 1e-5, peak_force = 1e6 }",
+];
+
+/// Whether a scene error says where or what: a TOML location, a field path in backticks, or a
+/// range error with field, value and allowed range.
+fn error_is_clear(e: &SceneError) -> bool {
+    match e {
+        SceneError::Invalid(p) => {
+            !p.field.is_empty() && !p.value.is_empty() && !p.allowed.is_empty()
+        }
+        SceneError::Parse(m) | SceneError::Io(m) => {
+            m.contains("line ") || m.contains('`') || m.contains("invalid --set")
+        }
+    }
+}
+
+/// Builds and runs a parsed scene when it is cheap enough (small mode counts): a clear error or
+/// finite outputs.
+fn build_and_step(scene: &Scene) -> Result<(), TestCaseError> {
+    let Some(plate) = scene.plate.as_ref() else {
+        return Ok(());
+    };
+    if plate.n_phi > 40 || plate.n_psi > 20 {
+        return Ok(());
+    }
+    match PlateVoice::build(plate) {
+        Err(msg) => prop_assert!(msg.contains('`'), "unclear build error: {msg}"),
+        Ok(mut v) => {
+            let mut out = vec![vec![0.0; 64]; v.channels()];
+            v.process(&mut out, 64);
+            for c in &out {
+                prop_assert!(c.iter().all(|x| x.is_finite()), "non-finite output");
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The unmutated bases with the fuzz's small mode counts parse and build, so the fuzz reaches
+/// the voice build whenever its mutations leave a valid scene.
+#[test]
+fn small_base_scenes_build() {
+    std::env::set_var(
+        "NOETHER_CACHE",
+        std::env::temp_dir().join("noether-test-cache"),
+    );
+    let o = ["plate.n_phi=12".to_string(), "plate.n_psi=6".to_string()];
+    for base in BASES {
+        let scene = Scene::from_toml(base, "base.toml", &o).unwrap();
+        build_and_step(&scene).unwrap();
+        assert!(PlateVoice::build(scene.plate.as_ref().unwrap()).is_ok());
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
+
+    #[test]
+    fn mutated_scenes_never_panic_and_errors_are_clear(
+        base in 0..BASES.len(),
+        sets in prop::collection::vec((0..PATHS.len(), 0..VALUES.len()), 0..4),
+        delete_line in prop::option::of(0usize..40),
+        truncate in prop::option::of(0.0f64..1.0),
+        garbage in prop::option::of((0.0f64..1.0, any::<u8>())),
+    ) {
+        std::env::set_var("NOETHER_CACHE", std::env::temp_dir().join("noether-test-cache"));
+        let mut text: String = BASES[base]
+            .lines()
+            .enumerate()
+            .filter(|(i, _)| Some(*i) != delete_line)
+            .map(|(_, l)| format!("{l}\n"))
+            .collect();
+        if let Some(f) = truncate {
+            let mut cut = (text.len() as f64 * f) as usize;
+            while !text.is_char_boundary(cut) {
+                cut -= 1;
+            }
+            text.truncate(cut);
+        }
+        if let Some((f, b)) = garbage {
+            let mut bytes = text.into_bytes();
+            let at = ((bytes.len() as f64) * f) as usize;
+            bytes.insert(at.min(bytes.len()), b);
+            text = String::from_utf8_lossy(&bytes).into_owned();
+        }
+        // Small mode counts first (the random overrides may replace them), so that scenes
+        // which survive the mutations are cheap enough to build and step.
+        let overrides: Vec<String> = ["plate.n_phi=12".to_string(), "plate.n_psi=6".to_string()]
+            .into_iter()
+            .chain(sets.iter().map(|&(p, v)| format!("{}={}", PATHS[p], VALUES[v])))
+            .collect();
+        match Scene::from_toml(&text, "fuzz.toml", &overrides) {
+            Err(e) => prop_assert!(error_is_clear(&e), "unclear error: {e}"),
+            Ok(scene) => build_and_step(&scene)?,
+        }
+    }
+
+    #[test]
+    fn arbitrary_strings_are_refused_clearly_or_step(
+        floats in prop::collection::vec(
+            prop_oneof![
+                Just(f64::NAN), Just(f64::INFINITY), Just(f64::NEG_INFINITY), Just(0.0),
+                Just(-1.0), Just(1e308), Just(1e-310), -1e3f64..1e3, 1e-6f64..1e4,
+            ],
+            10,
+        ),
+        intervals in prop_oneof![0usize..8, 8usize..600, Just(1usize << 21)],
+        obstacle_kind in 0..4usize,
+    ) {
+        let f = &floats;
+        let params = StringParams {
+            length: f[0],
+            tension: f[1],
+            linear_density: f[2] * 1e-3,
+            stiffness: if f[3] > 0.0 { Stiffness::Inharmonicity(f[3] * 1e-5) }
+                       else { Stiffness::BendingStiffness(f[3]) },
+            diameter: f[4] * 1e-4,
+            intervals,
+            sample_rate: f[5] * 1e3,
+        };
+        let obstacle = match obstacle_kind {
+            0 => Obstacle::None,
+            1 => Obstacle::Sitar(SitarBridge { position: 0.0, curvature: f[6], height: f[7] * 1e-4, extent: f[8] * 1e-3 }),
+            2 => Obstacle::Point { position: f[8] * 1e-3, height: f[7] * 1e-4, width: f[6] * 1e-3 },
+            _ => Obstacle::Fretboard { distance: f[7] * 1e-4 },
+        };
+        let config = StringConfig {
+            params,
+            losses: Losses::None,
+            obstacle,
+            contact: ContactLaw { stiffness: f[9].abs() * 1e10, exponent: 1.0 + f[6].abs() % 4.0 },
+            outputs: vec![
+                OutputChannel::Pickup { position: f[8] * 1e-3, quantity: Quantity::Velocity, readout: Readout::Grid },
+                OutputChannel::ObstacleForce,
+            ],
+        };
+        match StiffString::new(&config) {
+            Err(e) => prop_assert!(
+                !e.field.is_empty() && !e.value.is_empty() && !e.allowed.is_empty(),
+                "unclear error: {e:?}"
+            ),
+            Ok(mut s) => {
+                // Built: a pluck is validated the same way, then a few steps run.
+                let pluck = TrianglePluck { position: f[0] * 0.3, amplitude: f[7] * 1e-6 };
+                match s.pluck(&pluck) {
+                    Err(e) => prop_assert!(!e.field.is_empty() && !e.allowed.is_empty()),
+                    Ok(()) => {
+                        let mut out = vec![vec![0.0; 16]; s.channels()];
+                        s.process(&mut out, 16);
+                    }
+                }
+            }
+        }
+    }
+}
