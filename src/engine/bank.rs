@@ -245,7 +245,8 @@ impl Bank {
             let scheme = match v.index_of(ParamId::Scheme) {
                 0 => PlateScheme::ConservativeTheta1,
                 1 => PlateScheme::ConservativeExact,
-                _ => PlateScheme::StormerVerletExact,
+                2 => PlateScheme::StormerVerletExact,
+                _ => PlateScheme::SavExact,
             };
             // Built with neutral coefficients (the exact scheme accepts any ω); every note
             // retunes them in place before it sounds.

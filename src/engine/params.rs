@@ -74,6 +74,7 @@ pub const SCHEME_NAMES: &[&str] = &[
     "conservative (theta = 1)",
     "conservative, exact linear part",
     "Stormer-Verlet (explicit, not conservative)",
+    "SAV (explicit, energy-conserving)",
 ];
 
 macro_rules! params {
@@ -186,7 +187,7 @@ params! {
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
     SimRate, "sim_rate", "Simulation rate", "Hz", 8000.0, 400000.0, 32000.0, LOG, true,
         "Quality: the models' own time-step rate; resampled to the host rate.";
-    Scheme, "scheme", "Scheme", "", 0.0, 2.0, 1.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
+    Scheme, "scheme", "Scheme", "", 0.0, 3.0, 1.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
         "Quality: plate time scheme.";
     Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true,
         "Voices in the pool (a rebuild allocates them); the quietest or oldest is stolen.";

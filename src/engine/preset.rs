@@ -49,7 +49,12 @@ pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
     match id {
         ParamId::Model => Some(&["gong", "cymbal", "rect-plate", "sitar", "tanpura"]),
         ParamId::Material => Some(&["steel", "bronze", "brass", "aluminium", "custom"]),
-        ParamId::Scheme => Some(&["conservative", "conservative-exact", "stormer-verlet"]),
+        ParamId::Scheme => Some(&[
+            "conservative",
+            "conservative-exact",
+            "stormer-verlet",
+            "sav",
+        ]),
         _ => None,
     }
 }

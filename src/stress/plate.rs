@@ -220,6 +220,7 @@ pub fn cases(density: Density) -> Vec<Case> {
             PlateScheme::Conservative,
             PlateScheme::ConservativeExact,
             PlateScheme::StormerVerlet,
+            PlateScheme::Sav,
         ] {
             let base = PlateCase {
                 shape,
@@ -293,6 +294,7 @@ pub fn cases(density: Density) -> Vec<Case> {
                         PlateScheme::Conservative => "conservative",
                         PlateScheme::ConservativeExact => "conservative-exact",
                         PlateScheme::StormerVerlet => "stormer-verlet",
+                        PlateScheme::Sav => "sav",
                     }
                 );
                 let case = Case::new(family, c.label(), may_refuse, move || run_case(c, steps));
