@@ -156,8 +156,10 @@ fn modified_energy_is_conserved_to_round_off() {
 /// steps stay finite and |q| stays bounded by the energy: `t + v` is positive definite, so
 /// `|q|² ≤ 2 𝔥_max / (ρh min ω̃²(1 - h²ω̃²/4))` (the bound of the exact scheme's modified
 /// energy at the worst mode), with `𝔥_max` the largest energy seen. The energy identity holds
-/// here only to 1e-4 (measured 4e-6): the Sherman-Morrison denominator `1 + β gᵀA⁻¹g` is huge at
-/// this stiffness and amplifies round-off; exactness at resolved rates is tested above.
+/// here to 1e-6 (measured 1.2e-8): the Sherman-Morrison denominator `1 + β gᵀA⁻¹g` is huge at
+/// this stiffness and the rank-one correction cancels most of the solved vector, which costs
+/// round-off relative to that vector; solving for the increment `q(n+1) - q(n-1)` keeps it
+/// small (4e-6 when the step solved for `q(n+1)`); exactness at resolved rates is tested above.
 /// Störmer-Verlet on the same start blows up (checked, so the case really tests stability).
 #[test]
 fn stable_at_large_steps_and_strong_nonlinearity() {
@@ -187,7 +189,7 @@ fn stable_at_large_steps_and_strong_nonlinearity() {
     }
     let bound = (2.0 * emax / (7.86 * lower)).sqrt();
     eprintln!("[SAV] fs={fs}: drift {drift:.2e}, max |q| {qmax:.3e} (energy bound {bound:.3e})");
-    assert!(drift < 1e-4 && qmax <= bound, "{drift} {qmax} {bound}");
+    assert!(drift < 1e-6 && qmax <= bound, "{drift} {qmax} {bound}");
     let mut sv = model(
         &params(n_phi, n_psi, seed, fs, PlateScheme::StormerVerletExact),
         seed,
@@ -201,10 +203,13 @@ fn stable_at_large_steps_and_strong_nonlinearity() {
 }
 
 /// Linear limit (`coupling_scale = 0`): SAV and the conservative scheme with the exact linear
-/// part are the same recursion (`g = 0`), so under damping and a strike they agree to 1e-13
-/// of max |q| over 5000 steps (only the order of floating-point operations differs; the
+/// part are the same recursion (`g = 0`), so under damping and a strike they agree to
+/// round-off over 5000 steps. SAV solves for `q(n+1) - q(n-1)` and the conservative scheme for
+/// `q(n+1)`, so their roundings differ: each step rounds `q(n+1)` at `ε|q|`, which moves a
+/// mode's amplitude by `ε|q|/(ω h)`; over `N` steps of two recursions the bound is
+/// `2 N ε / (ω_min h)` relative to max |q| (here about 2e-10; measured 1.5e-11). The
 /// exact-linear schemes are checked against the closed-form modal solution in
-/// `plate_scheme.rs`).
+/// `plate_scheme.rs`.
 #[test]
 fn linear_limit_is_the_exact_scheme() {
     let (n_phi, n_psi, seed, fs) = (10, 4, 8, 10_000.0);
@@ -231,7 +236,17 @@ fn linear_limit_is_the_exact_scheme() {
         "[SAV] linear limit: max |Δq| / max |q| = {:.2e}",
         diff / scale
     );
-    assert!(scale > 0.0 && diff / scale < 1e-13);
+    let h = 1.0 / fs;
+    let omega_min = (0..n_phi)
+        .map(|s| b.linear_coefficients(s).0.sqrt())
+        .fold(f64::INFINITY, f64::min);
+    let bound = 2.0 * 5000.0 * f64::EPSILON / (omega_min * h);
+    eprintln!("[SAV] linear limit: round-off bound {bound:.2e}");
+    assert!(
+        scale > 0.0 && diff / scale < bound,
+        "{} > {bound}",
+        diff / scale
+    );
 }
 
 /// Second order in h: lossless run of 20 ms with in-plane energy ≈ 30 % of the total; errors

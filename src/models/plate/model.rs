@@ -268,7 +268,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             let k = SavCoefficients {
                 inv_a: &self.inv_a,
                 b: &self.b,
-                d: &self.d,
                 force_weights: &self.force_weights,
                 u_coef: &self.u_coef,
                 h2_over_rho_h: h2 / self.rho_h,

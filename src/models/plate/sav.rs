@@ -29,7 +29,8 @@
 //!
 //! With `μ_{t.}ψ = ψ(n-½) + g·(q(n+1) - q(n-1))/4`, multiplying by `h²/ρh`:
 //! `(A + β g gᵀ) q(n+1) = r`, `β = h²/(4ρh)`, `A = diag(1 + c̃h/2)`,
-//! `r = (2 - h²ω̃²) q(n) - (1 - c̃h/2) q(n-1) + h² p(n) - (h²/ρh) g (ψ(n-½) - g·q(n-1)/4)`.
+//! `r = (2 - h²ω̃²) q(n) - (1 - c̃h/2) q(n-1) + h² p(n) - (h²/ρh) g (ψ(n-½) - g·q(n-1)/4)`,
+//! solved in increment form for `q(n+1) - q(n-1)` (see [`SavStep::step`]).
 //! Sherman-Morrison: `q(n+1) = A⁻¹r - A⁻¹g · β gᵀA⁻¹r / (1 + β gᵀA⁻¹g)`; the denominator is
 //! ≥ 1, so the update always exists. `O(N_Φ)` besides the two tensor passes.
 //!
@@ -64,15 +65,13 @@ pub(crate) struct SavStep {
     y: Vec<f64>,
 }
 
-/// Per-mode coefficients of the linear part (`inv_a = 1/(1 + c̃h/2)`, `b = 2 - h²ω̃²`,
-/// `d = 1 - c̃h/2`), the force weights `Φ_s(x₀)` and the in-plane energy weights `u_l`.
+/// Per-mode coefficients of the linear part (`inv_a = 1/(1 + c̃h/2)`, `b = 2 - h²ω̃²`; the
+/// increment form needs no `1 - c̃h/2`), the force weights `Φ_s(x₀)` and the in-plane energy weights `u_l`.
 pub(crate) struct SavCoefficients<'a> {
     /// `1/(1 + c̃_s h/2)` (dimensionless), length `N_Φ`.
     pub inv_a: &'a [f64],
     /// `2 - h²ω̃_s²` (dimensionless), length `N_Φ`.
     pub b: &'a [f64],
-    /// `1 - c̃_s h/2` (dimensionless), length `N_Φ`.
-    pub d: &'a [f64],
     /// `Φ_s(x₀)` (1/m), length `N_Φ`.
     pub force_weights: &'a [f64],
     /// `u_l = Eh κ²/(8 ζ_l⁴)` (J per unit `Ĥ²`), length `N_Ψ`.
@@ -131,13 +130,19 @@ impl SavStep {
                 self.g.fill(0.0);
             }
         }
-        let g_qprev: f64 = self.g.iter().zip(q_prev).map(|(g, x)| g * x).sum();
-        let c = k.h2_over_rho_h * (self.psi - 0.25 * g_qprev);
+        // Solve for the increment δ = q(n+1) - q(n-1) rather than q(n+1): the rank-one
+        // correction cancels most of `A⁻¹r` along `g` when `β gᵀA⁻¹g ≫ 1` (stiff nonlinearity),
+        // and that cancellation costs round-off relative to the size of the solved vector; `δ`
+        // is `O(h q̇)` where `q(n+1)` is `O(q)`. Substituting `q(n+1) = q(n-1) + δ` (the
+        // `β g gᵀ q(n-1)` terms cancel, `a + d = 2`):
+        // `(A + β g gᵀ) δ = 2(q(n) - q(n-1)) - h²ω̃² q(n) + h² p(n) - (h²/ρh) ψ(n-½) g`.
+        let c = k.h2_over_rho_h * self.psi;
         // y = A⁻¹ r; gᵀy and gᵀA⁻¹g for Sherman-Morrison.
         let (mut gy, mut gag) = (0.0, 0.0);
         for s in 0..q.len() {
             let gs = self.g[s];
-            let r = k.b[s] * q[s] - k.d[s] * q_prev[s] + fscale * k.force_weights[s] - c * gs;
+            let r = 2.0 * (q[s] - q_prev[s]) + (k.b[s] - 2.0) * q[s] + fscale * k.force_weights[s]
+                - c * gs;
             let ys = r * k.inv_a[s];
             self.y[s] = ys;
             gy += gs * ys;
@@ -147,9 +152,9 @@ impl SavStep {
         let coef = beta * gy / (1.0 + beta * gag);
         let mut dpsi = 0.0;
         for s in 0..q.len() {
-            let x = self.y[s] - coef * self.g[s] * k.inv_a[s];
-            q_next[s] = x;
-            dpsi += self.g[s] * (x - q_prev[s]);
+            let delta = self.y[s] - coef * self.g[s] * k.inv_a[s];
+            q_next[s] = q_prev[s] + delta;
+            dpsi += self.g[s] * delta;
         }
         self.psi += 0.5 * dpsi;
     }
