@@ -52,8 +52,9 @@ pub fn default_cache_dir() -> PathBuf {
 /// File name of the cache entry of `spec` (every key field appears in it).
 pub fn cache_file_name(spec: &CircularPlateSpec) -> String {
     format!(
-        "circular-{}-nu{:016x}-phi{}-psi{}-q{}-v{}.bin",
+        "circular-{}{}-nu{:016x}-phi{}-psi{}-q{}-v{}.bin",
         spec.edge.name(),
+        if spec.mirror { "-mirror" } else { "" },
         spec.nu.to_bits(),
         spec.n_phi,
         spec.n_psi,

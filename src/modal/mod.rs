@@ -34,7 +34,9 @@ mod coupling_runs;
 pub mod quadrature;
 
 pub use angular::Parity;
-pub use basis::{circular_modes, omega_scale, CircularPlateSpec, Mode, PlateModes};
+pub use basis::{
+    circular_modes, circular_modes_with, omega_scale, CircularPlateSpec, Mode, PlateModes,
+};
 pub use cache::{default_cache_dir, CacheOutcome};
 pub use circular::{CircularEdge, RadialFunction};
 pub use coupling::CouplingTensor;

@@ -78,6 +78,7 @@ impl PlateCase {
             material: Material::default(),
             n_phi: self.n_phi,
             n_psi: self.n_psi,
+            symmetry: Default::default(),
             sim_rate: self.fs,
             scheme: self.scheme,
             damping: self.damping,

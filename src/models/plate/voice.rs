@@ -16,7 +16,9 @@ use crate::modal::{
 use crate::modal_rect::{CouplingTriplets, RectModes, RectSpec};
 use crate::render::source::{EnergyTerms, RenderSource};
 use crate::scene::plate::PlateScheme as SceneScheme;
-use crate::scene::plate::{Damping, Excitation, PlateScene, PlateShape, Position, Quantity};
+use crate::scene::plate::{
+    Damping, Excitation, PlateScene, PlateShape, Position, Quantity, Symmetry,
+};
 use std::sync::Arc;
 
 /// The force applied at the excitation point, sample by sample.
@@ -60,6 +62,8 @@ pub struct PlateInfo {
     pub modal_seconds: f64,
     /// Scheme identifier.
     pub scheme: String,
+    /// Modal subspace (`full` or `strike-mirror`).
+    pub symmetry: Symmetry,
 }
 
 /// Dimensionless modal data of a plate: `λ²` (Φ), `ζ⁴` (Ψ), the coupling tensor, the mode
@@ -107,8 +111,17 @@ impl PlateVoice {
                 } else {
                     CircularEdge::Clamped
                 };
-                let spec = CircularPlateSpec::new(edge, nu, scene.n_phi, scene.n_psi.max(1), None)
-                    .map_err(|e| format!("plate: {e}"))?;
+                let mut spec =
+                    CircularPlateSpec::new(edge, nu, scene.n_phi, scene.n_psi.max(1), None)
+                        .map_err(|e| format!("plate: {e}"))?;
+                // The mirror basis lives in the frame where the strike is at θ = 0: every
+                // position's angle is taken relative to the strike's.
+                let theta0 = if scene.symmetry == Symmetry::StrikeMirror {
+                    spec = spec.mirror_symmetric();
+                    excitation_angle(&scene.excitation)
+                } else {
+                    0.0
+                };
                 let (modes, outcome) =
                     PlateModes::load_or_build(&spec, &default_cache_dir()).map_err(map_err)?;
                 let cache = match outcome {
@@ -120,7 +133,7 @@ impl PlateVoice {
                 let modes = Arc::new(modes);
                 let m2 = modes.clone();
                 let phi = Box::new(move |s: usize, p: &Position| {
-                    m2.phi_at(s, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0))
+                    m2.phi_at(s, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0) - theta0)
                 });
                 (
                     modes.omega.clone(),
@@ -260,6 +273,7 @@ impl PlateVoice {
                 SceneScheme::Sav => "sav",
             }
             .into(),
+            symmetry: scene.symmetry,
         };
         Ok(Self {
             model,
@@ -334,5 +348,14 @@ impl RenderSource for PlateVoice {
             Ok(serde_json::Value::Object(m)) => m,
             _ => serde_json::Map::new(),
         }
+    }
+}
+
+/// Angle (rad) of the excitation point on a circular plate; 0 for initial conditions (whose
+/// modes are given in the basis's own frame).
+fn excitation_angle(e: &Excitation) -> f64 {
+    match e {
+        Excitation::Strike { at, .. } | Excitation::Impulse { at, .. } => at.angle.unwrap_or(0.0),
+        Excitation::Initial { .. } => 0.0,
     }
 }
