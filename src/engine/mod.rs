@@ -89,7 +89,7 @@ pub mod resample;
 mod telemetry;
 pub mod voice;
 
-pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO};
+pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO, VOICE_CEILING};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand};
 pub use handle::{EngineHandle, DEBOUNCE};
