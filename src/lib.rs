@@ -22,6 +22,8 @@
 //!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
 //! - [`stress`]: sweeps of every model and scheme over extreme parameters (`tests/extremes.rs`,
 //!   `noether stress`);
+//! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/soak.rs`,
+//!   `examples/soak.rs`);
 //! - [`error`]: the parameter error type every constructor returns.
 //!
 //! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
@@ -38,6 +40,7 @@ pub mod plot;
 pub mod render;
 pub mod scene;
 pub mod schemes;
+pub mod soak;
 pub mod stress;
 
 pub use error::ParamError;

@@ -6,7 +6,8 @@
 //! - mirrors the engine's parameter table as host parameters ([`params`]),
 //! - translates host note and MIDI events into sample-accurate engine events ([`midi`]),
 //! - connects the editor to the engine's telemetry and command queues ([`link`]),
-//! - ships the factory presets ([`presets`]) and the editor ([`editor`]).
+//! - ships the factory presets ([`presets`]) and the editor ([`editor`]),
+//! - makes any saved state it is given load to a defined, reported state ([`state`]).
 //!
 //! Threads: `process` runs on the host's audio thread (no allocation, lock or I/O: parameters
 //! are copied into atomics, events into a preallocated buffer); `activate` and the editor run
@@ -17,6 +18,7 @@ pub mod link;
 pub mod midi;
 pub mod params;
 pub mod presets;
+pub mod state;
 
 use editor::EditorApp;
 use link::EngineLink;
@@ -92,6 +94,14 @@ impl Plugin for Noether {
 
     fn params(&self) -> Arc<dyn Params> {
         self.params.clone()
+    }
+
+    /// Runs before nice-plug loads a parsed state (main thread): [`state::repair`] fills,
+    /// clamps, converts or drops every bad value and each change is logged as an error.
+    fn filter_state(state: &mut PluginState) {
+        for issue in state::repair(state, Self::VERSION) {
+            nice_error!("{issue}");
+        }
     }
 
     fn editor(&mut self, _async_executor: AsyncExecutor<Self>) -> Option<Self::Editor> {

@@ -23,6 +23,16 @@ pub const MAX_HOST_RATE: f64 = 192_000.0;
 /// A voice ends when its stored energy falls below this fraction of its peak after the
 /// excitation (1e-10: -100 dB in amplitude, since energy goes as amplitude squared).
 pub const SILENCE_RATIO: f64 = 1e-10;
+/// Largest normalised output of one voice (pickup velocity over the model's velocity
+/// reference, see [`super::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
+/// (silenced, its chunk dropped, counted in [`Engine::diverged_voices`]). 1e5 is 100 km/s at a
+/// plate pickup (400 km/s on a string): above the fastest longitudinal wave the parameter
+/// table allows, `√(E_max / ρ_min) = √(5e11 / 500) ≈ 31.6 km/s`, so the strain would exceed 1
+/// and no elastic model holds. Voices get there only by divergence of a conditionally stable
+/// scheme or by parametric pumping (stiffness or tension automated faster than the voice
+/// rings); without the ceiling their output reached inf in f32 before their f64 state
+/// overflowed (found by `tests/soak.rs`).
+pub const VOICE_CEILING: f64 = 1e5;
 /// Telemetry frames per second.
 const TELEMETRY_RATE: f64 = 30.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation
@@ -250,7 +260,8 @@ impl Engine {
         self.newton_cap_hits
     }
 
-    /// Voices silenced because their state became non-finite.
+    /// Voices silenced because their state became non-finite or their output passed
+    /// [`VOICE_CEILING`].
     pub fn diverged_voices(&self) -> u64 {
         self.diverged
     }
@@ -639,13 +650,20 @@ fn run_bank(b: &mut Bank, left: &mut [f32], right: &mut [f32], hits: &mut u64, d
         return;
     }
     let (sl, sr) = (&mut b.sim_l[..m], &mut b.sim_r[..m]);
+    let (vl, vr) = (&mut b.voice_l[..m], &mut b.voice_r[..m]);
     sl.fill(0.0);
     sr.fill(0.0);
     for v in b.voices.iter_mut().filter(|v| v.active) {
-        if !v.run(sl, sr, b.norm) {
+        vl.fill(0.0);
+        vr.fill(0.0);
+        if !v.run(vl, vr, b.norm) {
             v.reset();
             *div += 1;
             continue;
+        }
+        for i in 0..m {
+            sl[i] += vl[i];
+            sr[i] += vr[i];
         }
         *hits += v.take_cap_hits();
         let e = v.energy_terms().total();

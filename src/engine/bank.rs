@@ -73,6 +73,12 @@ pub(crate) struct Bank {
     pub resampler: Resampler,
     pub sim_l: Vec<f32>,
     pub sim_r: Vec<f32>,
+    /// One voice's output for the current chunk (simulation rate), added to `sim_l`/`sim_r`
+    /// only if the voice stayed within [`super::VOICE_CEILING`] (a runaway voice's partial
+    /// chunk is dropped with it).
+    pub voice_l: Vec<f32>,
+    /// See [`Self::voice_l`].
+    pub voice_r: Vec<f32>,
     /// Output scale (1 / velocity reference).
     pub norm: f64,
 }
@@ -338,6 +344,8 @@ impl Bank {
             resampler,
             sim_l: vec![0.0; max_in],
             sim_r: vec![0.0; max_in],
+            voice_l: vec![0.0; max_in],
+            voice_r: vec![0.0; max_in],
             norm,
         })
     }

@@ -75,7 +75,8 @@
 //! Polyphony is fixed per bank (parameter, 1..16). A note takes the voice already playing its
 //! key, else a free voice, else steals the quietest released voice, else the oldest. A voice
 //! ends (and costs nothing more) when its discrete energy falls below [`SILENCE_RATIO`] of its
-//! peak after the excitation; when no voice sounds and the resampler history is zero, the
+//! peak after the excitation, and is silenced (its chunk dropped, counted as diverged) if its
+//! output passes [`VOICE_CEILING`]; when no voice sounds and the resampler history is zero, the
 //! bank costs only a buffer fill. Note to pitch, release and the physical mapping: [`voice`].
 
 mod audio;
@@ -89,7 +90,7 @@ pub mod resample;
 mod telemetry;
 pub mod voice;
 
-pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO};
+pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO, VOICE_CEILING};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand};
 pub use handle::{EngineHandle, DEBOUNCE};

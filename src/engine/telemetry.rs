@@ -63,7 +63,8 @@ pub struct Telemetry {
     /// Contact Newton solves that hit the iteration cap since activation (strings; the step
     /// then completes with the capped iterate, see `models::string::contact`).
     pub newton_cap_hits: u64,
-    /// Voices whose state became non-finite since activation (they are silenced and freed).
+    /// Voices whose state became non-finite or whose output passed
+    /// [`VOICE_CEILING`](super::VOICE_CEILING) since activation (they are silenced and freed).
     pub diverged: u64,
     /// Simulation rate of the bank in use (Hz).
     pub sim_rate: f32,

@@ -22,6 +22,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+use super::audio::VOICE_CEILING;
 use super::kinds::Material;
 use super::params::{ParamId, ParamValues};
 use super::telemetry::{SNAPSHOT_POINTS, SPECTRUM_MODES};
@@ -352,7 +353,8 @@ impl Voice {
     }
 
     /// Advances `left.len()` steps, adding `gain ·` the two pickups into `left`/`right`.
-    /// Returns `false` if the state became non-finite (the caller resets the voice).
+    /// Returns `false` if the state became non-finite or `gain ·` a pickup passed
+    /// [`super::VOICE_CEILING`] (the caller resets the voice and drops the chunk).
     pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
         match &mut self.model {
             VoiceModel::Plate(pv) => {
@@ -372,8 +374,12 @@ impl Voice {
                         return false;
                     }
                     let o = pv.model.outputs();
-                    *l += (gain * o[0]) as f32;
-                    *r += (gain * o[1]) as f32;
+                    let (a, b) = (gain * o[0], gain * o[1]);
+                    if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
+                        return false;
+                    }
+                    *l += a as f32;
+                    *r += b as f32;
                 }
             }
             VoiceModel::String(sv) => {
@@ -382,11 +388,12 @@ impl Voice {
                     let (mut a, mut b) = (0.0, 0.0);
                     sv.model
                         .read_outputs(|c, x| if c == 0 { a = x } else { b = x });
-                    if !(a.is_finite() && b.is_finite()) {
+                    let (a, b) = (gain * a, gain * b);
+                    if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
                         return false;
                     }
-                    *l += (gain * a) as f32;
-                    *r += (gain * b) as f32;
+                    *l += a as f32;
+                    *r += b as f32;
                 }
             }
         }

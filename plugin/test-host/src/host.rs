@@ -35,6 +35,12 @@ pub struct RenderOptions {
     /// Save the state of the first instance, load it into a second one, check every parameter
     /// came back, and render with the second instance.
     pub state_roundtrip: bool,
+    /// A saved CLAP state stream to load before the `--set`s (see [`crate::state_load`]).
+    pub load_state: Option<PathBuf>,
+    /// Whether the plugin must accept (`ok`) or refuse (`refused`) `load_state`.
+    pub expect_load: Option<bool>,
+    /// Values the parameters must show after `load_state`: display name and display value.
+    pub expects: Vec<(String, String)>,
 }
 
 impl RenderOptions {
@@ -54,6 +60,9 @@ impl RenderOptions {
             velocity: 0.8,
             sets: Vec::new(),
             state_roundtrip: false,
+            load_state: None,
+            expect_load: None,
+            expects: Vec::new(),
         };
         while let Some(flag) = it.next() {
             match flag.as_str() {
@@ -64,6 +73,21 @@ impl RenderOptions {
                 "--key" => o.keys.push(parse_num(flag, it.next())?),
                 "--velocity" => o.velocity = parse_num(flag, it.next())?,
                 "--state-roundtrip" => o.state_roundtrip = true,
+                "--load-state" => o.load_state = Some(path_arg(flag, it.next())?),
+                "--expect-load" => {
+                    o.expect_load = match it.next().map(String::as_str) {
+                        Some("ok") => Some(true),
+                        Some("refused") => Some(false),
+                        other => return Err(format!("--expect-load {other:?}: ok or refused")),
+                    }
+                }
+                "--expect" => {
+                    let kv = it.next().ok_or("--expect needs NAME=VALUE")?;
+                    let (k, v) = kv
+                        .split_once('=')
+                        .ok_or_else(|| format!("--expect: `{kv}` is not NAME=VALUE"))?;
+                    o.expects.push((k.to_string(), v.to_string()));
+                }
                 "--set" => {
                     let kv = it.next().ok_or("--set needs NAME=VALUE")?;
                     let (k, v) = kv
@@ -95,7 +119,7 @@ impl RenderOptions {
 
 /// The host's shared handler: the test host runs everything on one thread, so restart, process
 /// and callback requests need no action (main-thread callbacks are pumped between blocks).
-struct Shared;
+pub(crate) struct Shared;
 
 impl SharedHandler<'_> for Shared {
     fn request_restart(&self) {}
@@ -104,7 +128,7 @@ impl SharedHandler<'_> for Shared {
 }
 
 /// The host type.
-struct TestHost;
+pub(crate) struct TestHost;
 
 impl HostHandlers for TestHost {
     type Shared<'a> = Shared;
@@ -114,12 +138,12 @@ impl HostHandlers for TestHost {
 
 /// One parameter as the plugin describes it.
 #[derive(Debug, Clone)]
-struct Param {
-    id: ClapId,
-    name: String,
-    min: f64,
-    max: f64,
-    default: f64,
+pub(crate) struct Param {
+    pub id: ClapId,
+    pub name: String,
+    pub min: f64,
+    pub max: f64,
+    pub default: f64,
 }
 
 fn new_instance(entry: &PluginEntry, id: &CString) -> Result<PluginInstance<TestHost>, String> {
@@ -156,7 +180,10 @@ fn list_params(instance: &mut PluginInstance<TestHost>) -> Result<Vec<Param>, St
     Ok(out)
 }
 
-fn values(instance: &mut PluginInstance<TestHost>, params: &[Param]) -> Result<Vec<f64>, String> {
+pub(crate) fn values(
+    instance: &mut PluginInstance<TestHost>,
+    params: &[Param],
+) -> Result<Vec<f64>, String> {
     let handle = instance.plugin_handle();
     let ext: PluginParams = handle.get_extension().ok_or("no params extension")?;
     params
@@ -169,7 +196,7 @@ fn values(instance: &mut PluginInstance<TestHost>, params: &[Param]) -> Result<V
 }
 
 /// The plugin's display text for `value` of parameter `id`.
-fn text_of(
+pub(crate) fn text_of(
     ext: &PluginParams,
     instance: &mut PluginInstance<TestHost>,
     id: ClapId,
@@ -245,7 +272,7 @@ fn apply_sets(
 /// Whether the display text `shown` (first word, the number or the enumeration name) matches
 /// the requested `want`: equal names, or numbers within a relative 1e-3 (the plugin prints four
 /// significant digits, a rounding of at most 5e-4 relative; f32 storage adds 1e-7).
-fn same_display_value(want: &str, shown: &str) -> bool {
+pub(crate) fn same_display_value(want: &str, shown: &str) -> bool {
     let w = want.trim();
     let s = shown.trim();
     match (
@@ -440,6 +467,17 @@ pub fn render(o: &RenderOptions) -> Result<(), String> {
             p.max,
             p.default,
         );
+    }
+    if let Some(path) = &o.load_state {
+        let ok = crate::state_load::load_state(&mut first, &params, path, &o.expects)?;
+        if o.expect_load.is_some_and(|want| want != ok) {
+            return Err(format!(
+                "{}: the plugin {} the state, expected {}",
+                path.display(),
+                if ok { "accepted" } else { "refused" },
+                if ok { "a refusal" } else { "it to load" }
+            ));
+        }
     }
     apply_sets(&mut first, &params, &o.sets)?;
 

@@ -1,0 +1,133 @@
+//! Changes of the parameters that make the engine's worker rebuild the voice bank (model,
+//! quality, positions, polyphony): drawn in bursts, like a knob being dragged, and closed by
+//! a final step that sets the bank's signature (model, simulation rate, polyphony).
+//!
+//! A bank whose signature equals the final step's can only have been built from a key
+//! containing the final step: the earlier steps of a burst never touch the signature
+//! parameters, and the final signature always differs from the bank in use. So "the bank
+//! in use has the requested signature" means "the requested rebuild arrived".
+//!
+//! Threads: driver thread, between blocks (writes [`SharedParams`], which is lock-free).
+
+use super::draw::Draw;
+use super::SoakConfig;
+use crate::engine::{ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS};
+use crate::ParamError;
+
+/// The properties of a voice bank the engine reports, which a burst's final step sets.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Signature {
+    /// Model of the bank.
+    pub model: ModelKind,
+    /// Simulation rate (Hz).
+    pub sim_rate: f64,
+    /// Voices in the pool.
+    pub polyphony: usize,
+}
+
+impl std::fmt::Display for Signature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} at {:.0} Hz, {} voices",
+            self.model.key(),
+            self.sim_rate,
+            self.polyphony
+        )
+    }
+}
+
+/// The parameters of a burst's final step (the signature and the quality).
+const FINAL: [ParamId; 6] = [
+    ParamId::Model,
+    ParamId::SimRate,
+    ParamId::Polyphony,
+    ParamId::Modes,
+    ParamId::InPlaneModes,
+    ParamId::Scheme,
+];
+
+/// Whether a change of `p` needs a new bank when the parameters hold `v`: the table's flag,
+/// and for the string models the size (the string's length sets the grid; see
+/// [`ParamValues::rebuild_key`]). The driver automates every other parameter each block.
+pub fn needs_rebuild(p: &ParamInfo, v: &ParamValues) -> bool {
+    p.rebuild || (p.id == ParamId::Size && !ModelKind::from_params(v).is_plate())
+}
+
+/// One intermediate step of a burst: each rebuild parameter outside the final step's set is
+/// redrawn over its whole range with probability ½. Returns the number of writes.
+pub fn step(d: &mut Draw, params: &SharedParams) -> Result<u64, ParamError> {
+    let v = params.snapshot();
+    let mut writes = 0;
+    for p in PARAMS
+        .iter()
+        .filter(|p| needs_rebuild(p, &v) && !FINAL.contains(&p.id))
+    {
+        if d.chance(0.5) {
+            params.set(p.id, d.value(p))?;
+            writes += 1;
+        }
+    }
+    Ok(writes)
+}
+
+/// The final step of a burst: a model, a simulation rate log-uniform over the whole range
+/// (8 kHz to 400 kHz unless `cfg` lowers it), a scheme, and modes, in-plane modes and
+/// polyphony within `cfg`'s limits, reduced until `modes · polyphony · sim_rate` fits the
+/// load budget `cfg.budget` (mode-steps per second of audio; the soak stays bounded in wall
+/// time). For a string model its length (the `size` parameter) is drawn here too. The
+/// simulation rate is moved by 1 % if the draw equals `current`'s, so the signature always
+/// changes. Returns the requested signature.
+pub fn finish(
+    d: &mut Draw,
+    params: &SharedParams,
+    cfg: &SoakConfig,
+    current: Option<Signature>,
+) -> Result<Signature, ParamError> {
+    let model = d.below(ModelKind::ALL.len() as u64) as usize;
+    let info = |id: ParamId| id.info();
+    let rate_hi = cfg.max_sim_rate.min(info(ParamId::SimRate).max as f64);
+    let rate_lo = info(ParamId::SimRate).min as f64;
+    let mut sim_rate = match d.unit() {
+        u if u < 0.1 => rate_lo,
+        u if u < 0.2 => rate_hi,
+        _ => d.log_between(rate_lo, rate_hi),
+    }
+    .round();
+    let mut modes = d.log_between(4.0, cfg.max_modes as f64 + 1.0).floor() as usize;
+    let mut poly = 1 + d.below(cfg.max_polyphony as u64) as usize;
+    let in_plane = if d.chance(0.2) {
+        0
+    } else {
+        d.below(cfg.max_in_plane as u64 + 1) as usize
+    };
+    while (modes * poly) as f64 * sim_rate > cfg.budget && (poly > 1 || modes > 4) {
+        if poly > 1 {
+            poly -= 1;
+        } else {
+            modes -= 1;
+        }
+    }
+    if current.is_some_and(|c| c.sim_rate == sim_rate) {
+        sim_rate = if sim_rate * 1.01 <= rate_hi {
+            (sim_rate * 1.01).round()
+        } else {
+            (sim_rate / 1.01).round()
+        };
+    }
+    let kind = ModelKind::from_index(model);
+    if !kind.is_plate() {
+        params.set(ParamId::Size, d.value(info(ParamId::Size)))?;
+    }
+    params.set(ParamId::Scheme, d.value(info(ParamId::Scheme)))?;
+    params.set(ParamId::Modes, modes as f32)?;
+    params.set(ParamId::InPlaneModes, in_plane as f32)?;
+    params.set(ParamId::Polyphony, poly as f32)?;
+    params.set(ParamId::SimRate, sim_rate as f32)?;
+    params.set(ParamId::Model, model as f32)?;
+    Ok(Signature {
+        model: kind,
+        sim_rate: sim_rate as f32 as f64,
+        polyphony: poly,
+    })
+}
