@@ -12,7 +12,8 @@ pub struct CheckOptions {
     /// Note-off time in seconds, from the start of the file or (with `from_onset`) from the first
     /// sample whose magnitude exceeds `min_peak`.
     pub note_off: f64,
-    /// Count `note_off` from the onset (for recordings that start at an unknown time).
+    /// Count `note_off` from the onset (for recordings that start at an unknown time before the
+    /// note: the first frame must be silent).
     pub from_onset: bool,
     /// The smallest acceptable peak before the note-off (full scale 1.0).
     pub min_peak: f64,
@@ -99,6 +100,14 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
     } else {
         0
     };
+    // A recording that starts while sound is already playing has no onset to count from (and
+    // its sound may not come from the note under test): the note must start after silence.
+    if o.from_onset && onset == 0 {
+        return Err(format!(
+            "{}: sound from the first frame: the recording started after the note",
+            o.file.display()
+        ));
+    }
     let off = onset + (o.note_off * rate_f).round() as usize;
     // 100 ms windows: long enough to average over the lowest partials of the presets (tens of
     // Hz), short against the decay times being compared.
