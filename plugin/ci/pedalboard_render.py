@@ -6,6 +6,7 @@ The WAV is then checked by `noether-test-host check` (finite, non-silent, decayi
 """
 
 import argparse
+import re
 import sys
 
 import numpy as np
@@ -22,13 +23,20 @@ def main() -> int:
     ap.add_argument("--note-off", type=float, default=1.0)
     args = ap.parse_args()
 
+    # nice-plug's VST3 wrapper maps MIDI CCs, channel pressure and pitch bend to 16 x 130 proxy
+    # parameters named "MIDI Ch. N ...", as JUCE does with its "MIDI CC " ones, which pedalboard
+    # already skips. pedalboard probes 1001 values of every parameter it wraps (two minutes for
+    # the proxies on the 2-core machine): skip them the same way. MIDI still reaches the plugin.
+    ignored = getattr(pedalboard._pedalboard, "PARAMETER_NAME_REGEXES_TO_IGNORE", None)
+    if isinstance(ignored, set):
+        ignored.add(re.compile(r"MIDI Ch\. \d+ "))
     inst = pedalboard.load_plugin(args.plugin)
     if not inst.is_instrument:
         print(f"{args.plugin} does not load as an instrument", file=sys.stderr)
         return 1
-    # The VST3 wrapper adds 16 x 130 MIDI CC proxy parameters (midi_ch_*); list Noether's own.
+    # Noether's own parameters (the MIDI proxies, midi_ch_*, if pedalboard listed them anyway).
     own = {n: p for n, p in inst.parameters.items() if not n.startswith("midi_ch_")}
-    print(f"loaded {inst.name!r}; {len(own)} parameters (+ MIDI CC proxies)")
+    print(f"loaded {inst.name!r}; {len(own)} parameters (MIDI CC proxies not listed)")
     for name, p in own.items():
         print(f"  {name:<28} {p.raw_value:.4f} ({p.string_value})")
     # Set two parameters that apply without a model rebuild through their normalised (raw)

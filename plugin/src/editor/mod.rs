@@ -157,10 +157,7 @@ impl EditorApp {
     /// "Hold to play": a note at the root key (velocity 0.8) while the button is held, so the
     /// standalone can be played without a MIDI device.
     fn audition(&mut self, ui: &mut egui::Ui) {
-        let held = ui
-            .button("hold to play")
-            .on_hover_text("plays the root key at velocity 0.8 while held")
-            .is_pointer_button_down_on();
+        let held = audition_button(ui).is_pointer_button_down_on();
         match (held, self.auditioning) {
             (true, None) => {
                 let key = self.params.slot(ParamId::RootKey).value().clamp(0.0, 127.0) as u8;
@@ -255,6 +252,16 @@ impl EditorApp {
     }
 }
 
+/// The audition button. It senses drags as well as clicks: egui forgets a press on a
+/// click-only widget once it has lasted `max_click_duration` (0.8 s) or moved a few points, so
+/// `is_pointer_button_down_on` of a plain button turns false while the button is still held,
+/// which released the note (the voice list showed "rel." under a held button). A drag-sensing
+/// widget keeps the press until the pointer button is released. GUI thread.
+fn audition_button(ui: &mut egui::Ui) -> egui::Response {
+    ui.add(egui::Button::new("hold to play").sense(egui::Sense::click_and_drag()))
+        .on_hover_text("plays the root key at velocity 0.8 while held")
+}
+
 impl NiceEguiApp for EditorApp {
     fn build(
         &mut self,
@@ -292,5 +299,82 @@ impl NiceEguiApp for EditorApp {
 
     fn editor_closed(&mut self) {
         self.gui = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use egui::{Event, Modifiers, PointerButton, Pos2, RawInput, Rect};
+
+    /// Runs one egui frame at time `t` (s) with `events`; returns the button's rectangle and
+    /// whether it reports the pointer button down on it.
+    fn frame(
+        ctx: &egui::Context,
+        t: f64,
+        events: Vec<Event>,
+        button: fn(&mut egui::Ui) -> egui::Response,
+    ) -> (Rect, bool) {
+        let input = RawInput {
+            time: Some(t),
+            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, Vec2::new(400.0, 200.0))),
+            events,
+            ..RawInput::default()
+        };
+        let mut out = (Rect::NOTHING, false);
+        let _ = ctx.run_ui(input, |ui| {
+            let r = button(ui);
+            out = (r.rect, r.is_pointer_button_down_on());
+        });
+        out
+    }
+
+    /// Presses `button` at t = 0.1 s, holds it still until 3 s, releases it at 3.1 s; returns
+    /// the held flag of every frame (30 frames a second) from the press to the release.
+    fn hold(button: fn(&mut egui::Ui) -> egui::Response) -> Vec<(f64, bool)> {
+        let ctx = egui::Context::default();
+        let (rect, _) = frame(&ctx, 0.0, vec![], button);
+        let pos = rect.center();
+        let press = |pressed| Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        };
+        let mut seen = vec![];
+        let (_, down) = frame(
+            &ctx,
+            0.1,
+            vec![Event::PointerMoved(pos), press(true)],
+            button,
+        );
+        seen.push((0.1, down));
+        for i in 1..=87 {
+            let t = 0.1 + f64::from(i) / 30.0;
+            seen.push((t, frame(&ctx, t, vec![], button).1));
+        }
+        let (_, down) = frame(&ctx, 3.1, vec![press(false)], button);
+        seen.push((3.1, down));
+        seen
+    }
+
+    #[test]
+    fn audition_button_stays_down_while_held() {
+        // The harness reproduces the reported bug: a click-only button lets go after egui's
+        // 0.8 s `max_click_duration` although the pointer button is still down.
+        let plain = hold(|ui| ui.button("hold to play"));
+        assert!(plain[0].1, "plain button not down on the press frame");
+        assert!(
+            plain.iter().any(|&(t, down)| t < 3.0 && !down),
+            "a click-only button no longer lets go of a long press: {plain:?}"
+        );
+        // The audition button is down on every frame from the press until the release
+        // (exact: a boolean per frame), and up on the release frame.
+        let fixed = hold(audition_button);
+        let (last, held) = fixed.split_last().unwrap();
+        for &(t, down) in held {
+            assert!(down, "audition button up at t = {t:.2} s while held");
+        }
+        assert!(!last.1, "audition button still down after the release");
     }
 }

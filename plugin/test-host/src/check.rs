@@ -12,7 +12,8 @@ pub struct CheckOptions {
     /// Note-off time in seconds, from the start of the file or (with `from_onset`) from the first
     /// sample whose magnitude exceeds `min_peak`.
     pub note_off: f64,
-    /// Count `note_off` from the onset (for recordings that start at an unknown time).
+    /// Count `note_off` from the onset (for recordings that start at an unknown time before the
+    /// note: the first 10 ms must be silent).
     pub from_onset: bool,
     /// The smallest acceptable peak before the note-off (full scale 1.0).
     pub min_peak: f64,
@@ -99,6 +100,17 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
     } else {
         0
     };
+    // A recording that starts while sound is already playing has no onset to count from (and
+    // its sound may not come from the note under test): the note must start after at least
+    // 10 ms of silence (a sounding note crosses 1e-4 many times in 10 ms: its lowest partials
+    // are above 50 Hz).
+    if o.from_onset && (onset as f64) < 0.01 * rate_f {
+        return Err(format!(
+            "{}: sound within the first 10 ms (onset frame {onset}): the recording started \
+             after the note",
+            o.file.display()
+        ));
+    }
     let off = onset + (o.note_off * rate_f).round() as usize;
     // 100 ms windows: long enough to average over the lowest partials of the presets (tens of
     // Hz), short against the decay times being compared.
@@ -138,4 +150,80 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
     }
     println!("ok: finite, non-silent, decaying after note-off");
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Writes a 16-bit stereo WAV at 48 kHz into the temporary directory: `silence` s of
+    /// zeros, then a 440 Hz tone of amplitude 0.5 held for 1 s and decaying afterwards with
+    /// time constant `tau` s (infinite: no decay), `total` s in all.
+    fn wav(name: &str, silence: f64, tau: f64, total: f64) -> PathBuf {
+        let path =
+            std::env::temp_dir().join(format!("noether-check-{}-{name}.wav", std::process::id()));
+        let spec = hound::WavSpec {
+            channels: 2,
+            sample_rate: 48_000,
+            bits_per_sample: 16,
+            sample_format: hound::SampleFormat::Int,
+        };
+        let mut w = hound::WavWriter::create(&path, spec).unwrap();
+        for i in 0..(total * 48_000.0) as usize {
+            let t = i as f64 / 48_000.0 - silence;
+            let x = if t < 0.0 {
+                0.0
+            } else {
+                let env = if t < 1.0 {
+                    1.0
+                } else {
+                    (-(t - 1.0) / tau).exp()
+                };
+                0.5 * env * (2.0 * std::f64::consts::PI * 440.0 * t).sin()
+            };
+            let s = (x * 32767.0).round() as i16;
+            w.write_sample(s).unwrap();
+            w.write_sample(s).unwrap();
+        }
+        w.finalize().unwrap();
+        path
+    }
+
+    fn from_onset(file: PathBuf) -> CheckOptions {
+        CheckOptions {
+            file,
+            note_off: 1.0,
+            from_onset: true,
+            min_peak: 1e-4,
+        }
+    }
+
+    #[test]
+    fn note_after_silence_decaying_passes() {
+        // 0.2 s time constant: the last 100 ms (about 1.4 s after the note-off) are about
+        // 60 dB below the note, far past the 6 dB the check asks.
+        let f = wav("ok", 0.7, 0.2, 3.0);
+        assert_eq!(check(&from_onset(f.clone())), Ok(()));
+        std::fs::remove_file(f).ok();
+    }
+
+    #[test]
+    fn recording_that_starts_during_the_sound_fails() {
+        let f = wav("late", 0.0, 0.2, 3.0);
+        let e = check(&from_onset(f.clone())).unwrap_err();
+        assert!(e.contains("sound within the first 10 ms"), "{e}");
+        std::fs::remove_file(f).ok();
+    }
+
+    #[test]
+    fn silent_or_sustained_recordings_fail() {
+        let f = wav("silent", 5.0, 0.2, 3.0);
+        let e = check(&from_onset(f.clone())).unwrap_err();
+        assert!(e.contains("silent"), "{e}");
+        std::fs::remove_file(f).ok();
+        let f = wav("held", 0.7, f64::INFINITY, 3.0);
+        let e = check(&from_onset(f.clone())).unwrap_err();
+        assert!(e.contains("not decaying"), "{e}");
+        std::fs::remove_file(f).ok();
+    }
 }

@@ -19,7 +19,7 @@ use std::process::ExitCode;
 enum Command {
     /// `render PLUGIN.clap OUT.wav [options]`.
     Render(host::RenderOptions),
-    /// `check FILE.wav --note-off SECONDS [--min-peak X]`.
+    /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X]`.
     Check(check::CheckOptions),
 }
 
@@ -27,7 +27,7 @@ fn usage() -> &'static str {
     "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
      [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip]\n      \
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
-     noether-test-host check FILE.wav --note-off S [--min-peak X]"
+     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X]"
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
