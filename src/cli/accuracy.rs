@@ -1,11 +1,11 @@
-//! `noether accuracy SCENE --vary rate --values a,b,c [--reference-rate R]`: render a scene
-//! under several settings and against a reference, write a CSV and JSON table and a PNG of
+//! `noether accuracy SCENE --vary rate|scheme --values a,b,c [--reference-rate R]`: render a
+//! scene under several settings and against a reference, write a CSV and JSON table and a PNG of
 //! the error against wall time. The metrics are those of [`noether::render::accuracy`]
 //! (stated in docs/ACCURACY.md).
 
 use clap::{Args, ValueEnum};
 use noether::plot::{write_png, Mark, Panel, Scale, Series};
-use noether::render::accuracy::{study_rate, AccuracyStudy};
+use noether::render::accuracy::{study_rate, study_scheme, AccuracyStudy};
 use noether::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -14,6 +14,9 @@ use std::path::{Path, PathBuf};
 pub enum Vary {
     /// The simulation rate (Hz); the reference is the same scene at `--reference-rate`.
     Rate,
+    /// The string's contact scheme (newton, quadratised), each at every `--values` rate (Hz);
+    /// the reference is the Newton scheme at `--reference-rate`. String scenes only.
+    Scheme,
 }
 
 /// Arguments of `noether accuracy`.
@@ -24,7 +27,7 @@ pub struct AccuracyArgs {
     /// Which setting to vary.
     #[arg(long, value_enum)]
     pub vary: Vary,
-    /// The values to render, comma separated (for `rate`: simulation rates in Hz).
+    /// The values to render, comma separated (for `rate` and `scheme`: simulation rates in Hz).
     #[arg(long, value_delimiter = ',', required = true)]
     pub values: Vec<f64>,
     /// Simulation rate of the reference render (Hz) [default: twice the largest value].
@@ -57,6 +60,15 @@ pub fn run(a: AccuracyArgs) -> Result<(), String> {
             );
             study_rate(&scene, &a.values, reference, |l| eprintln!("  {l}"))?
         }
+        Vary::Scheme => {
+            let top = a.values.iter().copied().fold(0.0, f64::max);
+            let reference = a.reference_rate.unwrap_or(2.0 * top);
+            eprintln!(
+                "accuracy of each contact scheme of {} against newton at sim_rate {} Hz ({} s)",
+                scene.name, reference, scene.output.seconds
+            );
+            study_scheme(&scene, &a.values, reference, |l| eprintln!("  {l}"))?
+        }
     };
     std::fs::create_dir_all(&a.out).map_err(|e| format!("creating {}: {e}", a.out.display()))?;
     let stem = a
@@ -75,13 +87,18 @@ pub fn run(a: AccuracyArgs) -> Result<(), String> {
         study.reference, study.reference_wall_seconds, study.reference_energy_balance_error
     );
     println!(
-        "{:>12} {:>10} {:>12} {:>10} {:>12}",
-        "value", "wall (s)", "L2 (50 ms)", "LSD (dB)", "balance err"
+        "{:>12} {:>12} {:>10} {:>12} {:>10} {:>12}",
+        "value", "scheme", "wall (s)", "L2 (50 ms)", "LSD (dB)", "balance err"
     );
     for r in &study.rows {
         println!(
-            "{:>12} {:>10.3} {:>12.3e} {:>10.3} {:>12.2e}",
-            r.value, r.wall_seconds, r.l2_50ms, r.lsd_db, r.energy_balance_error
+            "{:>12} {:>12} {:>10.3} {:>12.3e} {:>10.3} {:>12.2e}",
+            r.value,
+            r.scheme.as_deref().unwrap_or("-"),
+            r.wall_seconds,
+            r.l2_50ms,
+            r.lsd_db,
+            r.energy_balance_error
         );
     }
     for p in [&csv_path, &json_path, &png_path] {
@@ -101,35 +118,66 @@ fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
 }
 
 fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
-    let wall: Vec<f64> = study.rows.iter().map(|r| r.wall_seconds).collect();
-    let value: Vec<f64> = study.rows.iter().map(|r| r.value).collect();
-    let l2: Vec<f64> = study.rows.iter().map(|r| r.l2_50ms).collect();
-    let lsd: Vec<f64> = study.rows.iter().map(|r| r.lsd_db).collect();
-    let unit = if study.vary == "rate" { " (Hz)" } else { "" };
-    let panels = [
+    // One curve per scheme in a `scheme` study (rows carry the scheme), one curve otherwise.
+    let mut groups: Vec<Option<String>> = Vec::new();
+    for r in &study.rows {
+        if !groups.contains(&r.scheme) {
+            groups.push(r.scheme.clone());
+        }
+    }
+    let unit = if study.vary == "rate" || study.vary == "scheme" {
+        " (Hz)"
+    } else {
+        ""
+    };
+    let axis = if study.vary == "scheme" {
+        "sim_rate".to_string()
+    } else {
+        study.vary.clone()
+    };
+    let mut panels = [
         Panel::new(
             "waveform error against cost",
             "wall time (s)",
             "relative L2, first 50 ms",
         )
-        .scales(Scale::Log10, Scale::Log10)
-        .push(Series::line("L2", wall.clone(), l2.clone()).with_mark(Mark::LinePoints)),
+        .scales(Scale::Log10, Scale::Log10),
         Panel::new(
             "spectral error against cost",
             "wall time (s)",
             "log-spectral distance (dB)",
         )
-        .scales(Scale::Log10, Scale::Log10)
-        .push(Series::line("LSD", wall, lsd.clone()).with_mark(Mark::LinePoints)),
+        .scales(Scale::Log10, Scale::Log10),
         Panel::new(
             "errors against the setting",
-            format!("{}{unit}", study.vary),
+            format!("{axis}{unit}"),
             "error",
         )
-        .scales(Scale::Log10, Scale::Log10)
-        .push(Series::line("L2 (50 ms)", value.clone(), l2).with_mark(Mark::LinePoints))
-        .push(Series::line("LSD (dB)", value, lsd).with_mark(Mark::LinePoints)),
+        .scales(Scale::Log10, Scale::Log10),
     ];
+    for g in &groups {
+        let rows: Vec<_> = study.rows.iter().filter(|r| &r.scheme == g).collect();
+        let wall: Vec<f64> = rows.iter().map(|r| r.wall_seconds).collect();
+        let value: Vec<f64> = rows.iter().map(|r| r.value).collect();
+        let l2: Vec<f64> = rows.iter().map(|r| r.l2_50ms).collect();
+        let lsd: Vec<f64> = rows.iter().map(|r| r.lsd_db).collect();
+        let tag = g.as_deref().map(|s| format!(" {s}")).unwrap_or_default();
+        let [a, b, c] = panels;
+        panels = [
+            a.push(
+                Series::line(format!("L2{tag}"), wall.clone(), l2.clone())
+                    .with_mark(Mark::LinePoints),
+            ),
+            b.push(
+                Series::line(format!("LSD{tag}"), wall, lsd.clone()).with_mark(Mark::LinePoints),
+            ),
+            c.push(
+                Series::line(format!("L2 (50 ms){tag}"), value.clone(), l2)
+                    .with_mark(Mark::LinePoints),
+            )
+            .push(Series::line(format!("LSD (dB){tag}"), value, lsd).with_mark(Mark::LinePoints)),
+        ];
+    }
     write_png(
         path,
         &format!(

@@ -19,6 +19,7 @@
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
+use crate::models::string::ContactScheme;
 use crate::scene::Scene;
 use rustfft::{num_complex::Complex, FftPlanner};
 use serde::Serialize;
@@ -113,6 +114,9 @@ pub struct AccuracyRow {
     pub max_penetration: Option<f64>,
     /// Newton cap hits, for models with contact.
     pub newton_failures: Option<u64>,
+    /// The string's contact scheme of the render (`newton`, `quadratised`), for a `scheme`
+    /// study; `None` otherwise.
+    pub scheme: Option<String>,
 }
 
 /// The result of a study: the reference and one row per value.
@@ -120,7 +124,7 @@ pub struct AccuracyRow {
 pub struct AccuracyStudy {
     /// Scene name.
     pub scene: String,
-    /// The varied setting (`rate`).
+    /// The varied setting (`rate` or `scheme`).
     pub vary: String,
     /// Rendered duration (s).
     pub seconds: f64,
@@ -155,6 +159,7 @@ pub fn compare(
         energy_drift: report.energy.max_rel_drift,
         max_penetration: report.contact.as_ref().map(|c| c.max_penetration),
         newton_failures: report.contact.as_ref().map(|c| c.newton_failures),
+        scheme: None,
     }
 }
 
@@ -194,6 +199,72 @@ pub fn study_rate(
         compare_rate: out_rate,
         reference: format!(
             "the same scene at sim_rate = {reference_rate} Hz (same modes, same scheme)"
+        ),
+        reference_wall_seconds: ref_report.wall_seconds,
+        reference_energy_balance_error: ref_report.energy.max_balance_error,
+        rows,
+    })
+}
+
+/// Renders the string scene `scene` under every contact scheme ([`ContactScheme::ALL`]) at each
+/// simulation rate of `rates` (Hz) and compares each with the reference: the scene with the
+/// Newton scheme at `reference_rate` (a render equal to the reference is skipped). `log`
+/// receives one line per finished render. Errors for scenes without a string.
+pub fn study_scheme(
+    scene: &Scene,
+    rates: &[f64],
+    reference_rate: f64,
+    mut log: impl FnMut(&str),
+) -> Result<AccuracyStudy, String> {
+    if scene.string.is_none() {
+        return Err(format!(
+            "invalid value for `--vary`: scheme (allowed: rate; scheme needs a [string] scene, {} has none)",
+            scene.name
+        ));
+    }
+    let at = |fs: f64, scheme: ContactScheme| -> Result<Scene, String> {
+        let mut s = scene.clone();
+        if let Some(st) = &mut s.string {
+            st.contact_scheme = scheme.name().into();
+        }
+        s.set_sim_rate(fs).map_err(|e| e.to_string())?;
+        Ok(s)
+    };
+    let newton = ContactScheme::NewtonDiscreteGradient;
+    let out_rate = scene.output.sample_rate;
+    let (reference, ref_report) = render_scene(&at(reference_rate, newton)?, |_| {})?;
+    log(&format!(
+        "reference: newton at {} Hz, {:.2} s wall",
+        reference_rate, ref_report.wall_seconds
+    ));
+    let mut rows = Vec::new();
+    for &fs in rates {
+        for scheme in ContactScheme::ALL {
+            if scheme == newton && fs == reference_rate {
+                continue;
+            }
+            let (r, report) = render_scene(&at(fs, scheme)?, |_| {})?;
+            let mut row = compare(fs, &r, &report, &reference, out_rate);
+            row.scheme = Some(scheme.name().into());
+            log(&format!(
+                "{} at {} Hz: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, balance error {:.2e}",
+                scheme.name(),
+                fs,
+                row.wall_seconds,
+                row.l2_50ms,
+                row.lsd_db,
+                row.energy_balance_error
+            ));
+            rows.push(row);
+        }
+    }
+    Ok(AccuracyStudy {
+        scene: scene.name.clone(),
+        vary: "scheme".into(),
+        seconds: scene.output.seconds,
+        compare_rate: out_rate,
+        reference: format!(
+            "the same scene with the Newton contact scheme at sim_rate = {reference_rate} Hz (same modes)"
         ),
         reference_wall_seconds: ref_report.wall_seconds,
         reference_energy_balance_error: ref_report.energy.max_balance_error,
