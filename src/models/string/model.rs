@@ -97,8 +97,9 @@ pub struct StiffString {
     law: ContactLaw,
     /// Contact scheme (Newton by default; [`StiffString::set_contact_scheme`]).
     scheme: ContactScheme,
-    /// Quadratised scheme's auxiliary `z_i^{n+1/2}` at the obstacle nodes, √(J/m) (kept
-    /// consistent with the state under both schemes, so the scheme can be switched any time).
+    /// Quadratised scheme's auxiliary `z_i^{n+1/2}` at the obstacle nodes, √(J/m): advanced
+    /// only by that scheme, re-initialised from the state on reset, initial conditions and
+    /// scheme switches.
     contact_z: Vec<f64>,
     /// Solver counters.
     stats: ContactStats,
