@@ -381,43 +381,58 @@ fn scene_field_selects_the_scheme() {
     );
 }
 
-/// `noether accuracy --vary scheme` (`study_scheme`): on a small sitar (209 modes, 20 ms, four
-/// nodes on the bridge) at 96 kHz against Newton at 192 kHz, one row per scheme, tagged with its
-/// name; the Newton row is the pure rate error, the quadratised row adds the scheme's, both
-/// finite, non-zero and different (the string touched the bridge); a scene without a string is
-/// refused with a message naming `--vary`.
+/// `noether accuracy --vary scheme` on a string scene (the shared `study`, with the
+/// `string.contact_scheme` field): a small sitar (209 modes, 20 ms, four nodes on the bridge)
+/// under each scheme at 96 kHz against Newton at 192 kHz; one row per scheme, its report names
+/// the scheme; the Newton row is the pure rate error, the quadratised row adds the scheme's;
+/// both finite, non-zero and different (the string touched the bridge).
 #[test]
 fn accuracy_study_varies_the_scheme() {
+    use noether::render::accuracy::{study, Variant};
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/seed-sitar.toml");
-    let o: Vec<String> = [
-        "string.modes=209",
-        "string.sim_rate=96000",
-        "output.seconds=0.02",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
-    let scene = Scene::load(std::path::Path::new(path), &o).unwrap();
-    let study =
-        noether::render::accuracy::study_scheme(&scene, &[96_000.0], 192_000.0, |_| {}).unwrap();
-    assert_eq!(study.vary, "scheme");
-    let names: Vec<_> = study
-        .rows
+    let load = |extra: &[&str]| {
+        let mut o: Vec<String> = ["string.modes=209", "output.seconds=0.02"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        o.extend(extra.iter().map(|s| s.to_string()));
+        Scene::load(std::path::Path::new(path), &o).unwrap()
+    };
+    let variants: Vec<Variant> = ["newton", "quadratised"]
         .iter()
-        .map(|r| r.scheme.clone().unwrap())
+        .map(|name| Variant {
+            setting: name.to_string(),
+            value: None,
+            scene: load(&[
+                "string.sim_rate=96000",
+                &format!("string.contact_scheme={name}"),
+            ]),
+        })
         .collect();
-    assert_eq!(names, ["newton", "quadratised"]);
-    for r in &study.rows {
+    let reference = load(&["string.sim_rate=192000"]);
+    let st = study(
+        "scheme",
+        &variants,
+        &reference,
+        "newton at 192 kHz".into(),
+        |_| {},
+    )
+    .unwrap();
+    let schemes: Vec<_> = st.rows.iter().map(|r| r.scheme.as_str()).collect();
+    assert_eq!(
+        schemes,
+        [
+            "exact-modal+discrete-gradient-contact",
+            "exact-modal+quadratised-contact"
+        ]
+    );
+    for r in &st.rows {
         eprintln!(
-            "{:?}: L2 {:.3e}, LSD {:.3} dB",
-            r.scheme, r.l2_50ms, r.lsd_db
+            "{}: L2 {:.3e}, LSD {:.3} dB",
+            r.setting, r.l2_50ms, r.lsd_db
         );
         assert!(r.l2_50ms.is_finite() && r.l2_50ms > 0.0 && r.lsd_db.is_finite());
         assert!(r.energy_balance_error < 1e-10);
     }
-    assert_ne!(study.rows[0].l2_50ms, study.rows[1].l2_50ms);
-    let plate = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/gong.toml");
-    let p = Scene::load(std::path::Path::new(plate), &[]).unwrap();
-    let e = noether::render::accuracy::study_scheme(&p, &[48e3], 96e3, |_| {}).unwrap_err();
-    assert!(e.contains("--vary"), "{e}");
+    assert_ne!(st.rows[0].l2_50ms, st.rows[1].l2_50ms);
 }

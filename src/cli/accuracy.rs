@@ -1,22 +1,61 @@
-//! `noether accuracy SCENE --vary rate|scheme --values a,b,c [--reference-rate R]`: render a
-//! scene under several settings and against a reference, write a CSV and JSON table and a PNG of
-//! the error against wall time. The metrics are those of [`noether::render::accuracy`]
-//! (stated in docs/ACCURACY.md).
+//! `noether accuracy SCENE --vary rate|modes|psi|scheme --values a,b,c [--reference-set P=V]`:
+//! render a scene under several settings and against a reference, write a CSV and JSON table
+//! and a PNG of the error against wall time. The metrics are those of
+//! [`noether::render::accuracy`] (stated in docs/ACCURACY.md).
 
 use clap::{Args, ValueEnum};
 use noether::plot::{write_png, Mark, Panel, Scale, Series};
-use noether::render::accuracy::{study_rate, study_scheme, AccuracyStudy};
+use noether::render::accuracy::{study, AccuracyStudy, Variant};
 use noether::scene::Scene;
 use std::path::{Path, PathBuf};
 
 /// The setting a study varies.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Vary {
-    /// The simulation rate (Hz); the reference is the same scene at `--reference-rate`.
+    /// The simulation rate (Hz). Default reference: twice the largest value.
     Rate,
-    /// The string's contact scheme (newton, quadratised), each at every `--values` rate (Hz);
-    /// the reference is the Newton scheme at `--reference-rate`. String scenes only.
+    /// Transverse modes N_Φ (plate) or string modes. Default reference: twice the largest value.
+    Modes,
+    /// In-plane modes N_Ψ (plate only). Default reference: twice the largest value.
+    Psi,
+    /// The time scheme (plate: conservative, conservative-exact, stormer-verlet, sav; string:
+    /// the contact scheme, newton or quadratised). Default reference: conservative-exact
+    /// (plate) or newton (string) at twice the scene's rate.
     Scheme,
+}
+
+impl Vary {
+    fn name(self) -> &'static str {
+        match self {
+            Vary::Rate => "rate",
+            Vary::Modes => "modes",
+            Vary::Psi => "psi",
+            Vary::Scheme => "scheme",
+        }
+    }
+
+    /// The scene field the setting writes, for a plate or a string scene.
+    fn field(self, plate: bool) -> Result<&'static str, String> {
+        Ok(match (self, plate) {
+            (Vary::Rate, true) => "plate.sim_rate",
+            (Vary::Rate, false) => "string.sim_rate",
+            (Vary::Modes, true) => "plate.n_phi",
+            (Vary::Modes, false) => "string.modes",
+            (Vary::Psi, true) => "plate.n_psi",
+            (Vary::Scheme, true) => "plate.scheme",
+            (Vary::Scheme, false) => "string.contact_scheme",
+            (Vary::Psi, false) => {
+                return Err(format!(
+                    "invalid value for `--vary`: `{}` (allowed for a string scene: rate, modes, scheme)",
+                    self.name()
+                ))
+            }
+        })
+    }
+
+    fn numeric(self) -> bool {
+        self != Vary::Scheme
+    }
 }
 
 /// Arguments of `noether accuracy`.
@@ -27,13 +66,19 @@ pub struct AccuracyArgs {
     /// Which setting to vary.
     #[arg(long, value_enum)]
     pub vary: Vary,
-    /// The values to render, comma separated (for `rate` and `scheme`: simulation rates in Hz).
+    /// The values to render, comma separated (rates in Hz, mode counts, or scheme names).
     #[arg(long, value_delimiter = ',', required = true)]
-    pub values: Vec<f64>,
-    /// Simulation rate of the reference render (Hz) [default: twice the largest value].
+    pub values: Vec<String>,
+    /// Simulation rate of the reference render (Hz), for `--vary rate` [default: twice the
+    /// largest value].
     #[arg(long)]
     pub reference_rate: Option<f64>,
-    /// Override a scene field by its dotted path (repeatable), e.g. --set output.seconds=0.2.
+    /// Override a field of the reference scene only (repeatable), replacing the default
+    /// reference of the study, e.g. --reference-set plate.n_phi=400.
+    #[arg(long = "reference-set", value_name = "PATH=VALUE")]
+    pub reference_set: Vec<String>,
+    /// Override a scene field by its dotted path (repeatable, every render), e.g.
+    /// --set output.seconds=0.2.
     #[arg(long = "set", value_name = "PATH=VALUE")]
     pub set: Vec<String>,
     /// Folder for the table and the figure.
@@ -41,35 +86,92 @@ pub struct AccuracyArgs {
     pub out: PathBuf,
 }
 
+/// Loads the scene with the common overrides plus `extra`.
+fn load_with(a: &AccuracyArgs, extra: &[String]) -> Result<Scene, String> {
+    let mut set = a.set.clone();
+    set.extend_from_slice(extra);
+    Scene::load(&a.scene, &set).map_err(|e| e.to_string())
+}
+
+/// The default reference overrides of a study (see [`Vary`]).
+fn default_reference(a: &AccuracyArgs, base: &Scene, field: &str) -> Result<Vec<String>, String> {
+    let plate = base.plate.is_some();
+    let rate_field = Vary::Rate.field(plate)?;
+    let base_rate = base
+        .plate
+        .as_ref()
+        .map(|p| p.sim_rate)
+        .or(base.string.as_ref().map(|s| s.sim_rate))
+        .unwrap_or(0.0);
+    let top = || {
+        a.values
+            .iter()
+            .filter_map(|v| v.parse::<f64>().ok())
+            .fold(0.0, f64::max)
+    };
+    Ok(match a.vary {
+        Vary::Rate => vec![format!(
+            "{rate_field}={}",
+            a.reference_rate.unwrap_or(2.0 * top())
+        )],
+        Vary::Modes | Vary::Psi => vec![format!("{field}={}", (2.0 * top()).round())],
+        Vary::Scheme => vec![
+            format!(
+                "{field}={}",
+                if plate {
+                    "conservative-exact"
+                } else {
+                    "newton"
+                }
+            ),
+            format!("{rate_field}={}", 2.0 * base_rate),
+        ],
+    })
+}
+
 /// Runs `noether accuracy`.
 pub fn run(a: AccuracyArgs) -> Result<(), String> {
-    let scene = Scene::load(&a.scene, &a.set).map_err(|e| e.to_string())?;
-    if a.values.is_empty() || a.values.iter().any(|v| !v.is_finite() || *v <= 0.0) {
-        return Err(format!(
-            "invalid value for `--values`: {:?} (allowed: positive finite numbers)",
-            a.values
-        ));
+    let base = load_with(&a, &[])?;
+    let field = a.vary.field(base.plate.is_some())?;
+    if a.values.is_empty() {
+        return Err("invalid value for `--values`: empty (allowed: one or more settings)".into());
     }
-    let study = match a.vary {
-        Vary::Rate => {
-            let top = a.values.iter().copied().fold(0.0, f64::max);
-            let reference = a.reference_rate.unwrap_or(2.0 * top);
-            eprintln!(
-                "accuracy of {} against sim_rate {} Hz ({} s)",
-                scene.name, reference, scene.output.seconds
-            );
-            study_rate(&scene, &a.values, reference, |l| eprintln!("  {l}"))?
-        }
-        Vary::Scheme => {
-            let top = a.values.iter().copied().fold(0.0, f64::max);
-            let reference = a.reference_rate.unwrap_or(2.0 * top);
-            eprintln!(
-                "accuracy of each contact scheme of {} against newton at sim_rate {} Hz ({} s)",
-                scene.name, reference, scene.output.seconds
-            );
-            study_scheme(&scene, &a.values, reference, |l| eprintln!("  {l}"))?
-        }
+    let mut variants = Vec::new();
+    for v in &a.values {
+        let value = if a.vary.numeric() {
+            match v.trim().parse::<f64>() {
+                Ok(x) if x.is_finite() && x > 0.0 => Some(x),
+                _ => {
+                    return Err(format!(
+                        "invalid value for `--values`: `{v}` (allowed for --vary {}: positive finite numbers)",
+                        a.vary.name()
+                    ))
+                }
+            }
+        } else {
+            None
+        };
+        let scene = load_with(&a, &[format!("{field}={}", v.trim())])?;
+        variants.push(Variant {
+            setting: v.trim().to_string(),
+            value,
+            scene,
+        });
+    }
+    let reference_set = if a.reference_set.is_empty() {
+        default_reference(&a, &base, field)?
+    } else {
+        a.reference_set.clone()
     };
+    let reference = load_with(&a, &reference_set)?;
+    let description = format!("the scene with {}", reference_set.join(", "));
+    eprintln!(
+        "accuracy of {} against {description} ({} s)",
+        base.name, base.output.seconds
+    );
+    let study = study(a.vary.name(), &variants, &reference, description, |l| {
+        eprintln!("  {l}")
+    })?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("creating {}: {e}", a.out.display()))?;
     let stem = a
         .out
@@ -87,17 +189,17 @@ pub fn run(a: AccuracyArgs) -> Result<(), String> {
         study.reference, study.reference_wall_seconds, study.reference_energy_balance_error
     );
     println!(
-        "{:>12} {:>12} {:>10} {:>12} {:>10} {:>12}",
-        "value", "scheme", "wall (s)", "L2 (50 ms)", "LSD (dB)", "balance err"
+        "{:>20} {:>10} {:>12} {:>10} {:>12} {:>12}",
+        study.vary, "wall (s)", "L2 (50 ms)", "LSD (dB)", "partials (¢)", "balance err"
     );
     for r in &study.rows {
         println!(
-            "{:>12} {:>12} {:>10.3} {:>12.3e} {:>10.3} {:>12.2e}",
-            r.value,
-            r.scheme.as_deref().unwrap_or("-"),
+            "{:>20} {:>10.3} {:>12.3e} {:>10.3} {:>12} {:>12.2e}",
+            r.setting,
             r.wall_seconds,
             r.l2_50ms,
             r.lsd_db,
+            r.partial_cents.map_or("-".into(), |c| format!("{c:.2e}")),
             r.energy_balance_error
         );
     }
@@ -118,74 +220,83 @@ fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
 }
 
 fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
-    // One curve per scheme in a `scheme` study (rows carry the scheme), one curve otherwise.
-    let mut groups: Vec<Option<String>> = Vec::new();
-    for r in &study.rows {
-        if !groups.contains(&r.scheme) {
-            groups.push(r.scheme.clone());
-        }
-    }
-    let unit = if study.vary == "rate" || study.vary == "scheme" {
-        " (Hz)"
-    } else {
-        ""
-    };
-    let axis = if study.vary == "scheme" {
-        "sim_rate".to_string()
-    } else {
-        study.vary.clone()
-    };
-    let mut panels = [
-        Panel::new(
+    // Each setting is its own labelled point on the cost panels (a scheme study has no order).
+    let cost_panel =
+        |title: &str, ylabel: &str, pick: fn(&noether::render::accuracy::AccuracyRow) -> f64| {
+            let mut p =
+                Panel::new(title, "wall time (s)", ylabel).scales(Scale::Log10, Scale::Log10);
+            if study.rows.iter().all(|r| r.value.is_some()) {
+                p = p.push(
+                    Series::line(
+                        ylabel,
+                        study.rows.iter().map(|r| r.wall_seconds).collect(),
+                        study.rows.iter().map(pick).collect(),
+                    )
+                    .with_mark(Mark::LinePoints),
+                );
+            } else {
+                for r in &study.rows {
+                    p = p.push(
+                        Series::line(r.setting.clone(), vec![r.wall_seconds], vec![pick(r)])
+                            .with_mark(Mark::Points),
+                    );
+                }
+            }
+            p
+        };
+    let mut panels = vec![
+        cost_panel(
             "waveform error against cost",
-            "wall time (s)",
             "relative L2, first 50 ms",
-        )
-        .scales(Scale::Log10, Scale::Log10),
-        Panel::new(
+            |r| r.l2_50ms,
+        ),
+        cost_panel(
             "spectral error against cost",
-            "wall time (s)",
             "log-spectral distance (dB)",
-        )
-        .scales(Scale::Log10, Scale::Log10),
-        Panel::new(
-            "errors against the setting",
-            format!("{axis}{unit}"),
-            "error",
-        )
-        .scales(Scale::Log10, Scale::Log10),
+            |r| r.lsd_db,
+        ),
     ];
-    for g in &groups {
-        let rows: Vec<_> = study.rows.iter().filter(|r| &r.scheme == g).collect();
-        let wall: Vec<f64> = rows.iter().map(|r| r.wall_seconds).collect();
-        let value: Vec<f64> = rows.iter().map(|r| r.value).collect();
-        let l2: Vec<f64> = rows.iter().map(|r| r.l2_50ms).collect();
-        let lsd: Vec<f64> = rows.iter().map(|r| r.lsd_db).collect();
-        let tag = g.as_deref().map(|s| format!(" {s}")).unwrap_or_default();
-        let [a, b, c] = panels;
-        panels = [
-            a.push(
-                Series::line(format!("L2{tag}"), wall.clone(), l2.clone())
-                    .with_mark(Mark::LinePoints),
-            ),
-            b.push(
-                Series::line(format!("LSD{tag}"), wall, lsd.clone()).with_mark(Mark::LinePoints),
-            ),
-            c.push(
-                Series::line(format!("L2 (50 ms){tag}"), value.clone(), l2)
-                    .with_mark(Mark::LinePoints),
+    if study.rows.iter().all(|r| r.value.is_some()) {
+        let value: Vec<f64> = study.rows.iter().filter_map(|r| r.value).collect();
+        let unit = if study.vary == "rate" { " (Hz)" } else { "" };
+        panels.push(
+            Panel::new(
+                "errors against the setting",
+                format!("{}{unit}", study.vary),
+                "error",
             )
-            .push(Series::line(format!("LSD (dB){tag}"), value, lsd).with_mark(Mark::LinePoints)),
-        ];
+            .scales(Scale::Log10, Scale::Log10)
+            .push(
+                Series::line(
+                    "L2 (50 ms)",
+                    value.clone(),
+                    study.rows.iter().map(|r| r.l2_50ms).collect(),
+                )
+                .with_mark(Mark::LinePoints),
+            )
+            .push(
+                Series::line(
+                    "LSD (dB)",
+                    value,
+                    study.rows.iter().map(|r| r.lsd_db).collect(),
+                )
+                .with_mark(Mark::LinePoints),
+            ),
+        );
     }
+    let columns = panels.len();
     write_png(
         path,
-        &format!(
-            "{}: accuracy against {} (reference: {})",
-            study.scene, study.vary, study.reference
-        ),
+        &if columns > 2 {
+            format!(
+                "{}: accuracy against {} (reference: {})",
+                study.scene, study.vary, study.reference
+            )
+        } else {
+            format!("{}: accuracy against {}", study.scene, study.vary)
+        },
         &panels,
-        3,
+        columns,
         (560, 420),
     )
     .map_err(|e| e.to_string())

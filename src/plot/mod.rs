@@ -281,8 +281,16 @@ fn draw_panel(
         };
         (lo - m, hi + m)
     };
-    let (x0, x1) = if x1 > x0 { (x0, x1) } else { pad(x0, x1) };
+    // Scatter panels (no continuous line) get room around their points and headroom for the
+    // legend (upper right) so no point hides at an edge or under the legend.
+    let scatter = panel.series.iter().all(|s| s.mark != Mark::Line);
+    let (x0, x1) = if x1 > x0 && !scatter {
+        (x0, x1)
+    } else {
+        pad(x0, x1)
+    };
     let (y0, y1) = pad(y0, y1);
+    let y1 = if scatter { y1 + 0.5 * (y1 - y0) } else { y1 };
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, (FONT, 18).into_font())
         .margin(12)

@@ -11,6 +11,9 @@
 //!   `10 log10(P + ε) - 10 log10(P_ref + ε)` (dB), Hann window of 2048 samples, hop 512, with
 //!   `ε` = 1e-8 of the reference's largest bin power (a -80 dB floor, so bins silent in both do
 //!   not count);
+//! - **linear partials**: the largest error in cents of the scheme's linear partials against
+//!   the continuous model's, over the modes below the output Nyquist frequency (closed form from
+//!   the scheme's coefficients, [`crate::analysis::dispersion`]);
 //! - **energy balance error**: the render's largest `|balance_n - balance_0| / max energy`
 //!   (energy + dissipated - work), the drift of the quantity the scheme conserves.
 //!
@@ -19,7 +22,6 @@
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
-use crate::models::string::ContactScheme;
 use crate::scene::Scene;
 use rustfft::{num_complex::Complex, FftPlanner};
 use serde::Serialize;
@@ -96,16 +98,27 @@ pub fn log_spectral_distance(y: &[f64], reference: &[f64]) -> f64 {
 /// One row of an accuracy table.
 #[derive(Debug, Clone, Serialize)]
 pub struct AccuracyRow {
-    /// The varied setting's value (for `rate`: the simulation rate in Hz).
-    pub value: f64,
+    /// The varied setting as given (`96000`, `300`, `sav`, ...).
+    pub setting: String,
+    /// Its numeric value, when it is a number (for plots).
+    pub value: Option<f64>,
     /// Simulation rate of the render (Hz).
     pub sim_rate: f64,
+    /// Transverse modes of the render (string: modes).
+    pub n_phi: usize,
+    /// In-plane modes of the render (0 for strings).
+    pub n_psi: usize,
+    /// Scheme of the render.
+    pub scheme: String,
     /// Wall-clock seconds of the simulation.
     pub wall_seconds: f64,
     /// Relative L2 error of pickup 1 over the first 50 ms.
     pub l2_50ms: f64,
     /// Log-spectral distance of pickup 1 over the whole render (dB).
     pub lsd_db: f64,
+    /// Largest error of the linear partials below the output Nyquist frequency against the
+    /// continuous model (cents, closed form; `None` when the model reports none).
+    pub partial_cents: Option<f64>,
     /// Largest relative energy-balance error of the render.
     pub energy_balance_error: f64,
     /// Largest relative drift of the energy itself (equals the balance error when lossless).
@@ -114,9 +127,6 @@ pub struct AccuracyRow {
     pub max_penetration: Option<f64>,
     /// Newton cap hits, for models with contact.
     pub newton_failures: Option<u64>,
-    /// The string's contact scheme of the render (`newton`, `quadratised`), for a `scheme`
-    /// study; `None` otherwise.
-    pub scheme: Option<String>,
 }
 
 /// The result of a study: the reference and one row per value.
@@ -124,7 +134,7 @@ pub struct AccuracyRow {
 pub struct AccuracyStudy {
     /// Scene name.
     pub scene: String,
-    /// The varied setting (`rate` or `scheme`).
+    /// The varied setting (`rate`, `modes`, `psi`, `scheme`).
     pub vary: String,
     /// Rendered duration (s).
     pub seconds: f64,
@@ -136,13 +146,26 @@ pub struct AccuracyStudy {
     pub reference_wall_seconds: f64,
     /// Energy balance error of the reference.
     pub reference_energy_balance_error: f64,
+    /// Linear-partial error of the reference (cents).
+    pub reference_partial_cents: Option<f64>,
     /// One row per value.
     pub rows: Vec<AccuracyRow>,
 }
 
+/// One setting of a study: its label, its numeric value when it has one, and the scene under it.
+#[derive(Debug, Clone)]
+pub struct Variant {
+    /// The setting as given on the command line.
+    pub setting: String,
+    /// Its numeric value, when it is a number.
+    pub value: Option<f64>,
+    /// The scene with the setting applied (validated).
+    pub scene: Scene,
+}
+
 /// Compares a render with the reference render.
 pub fn compare(
-    value: f64,
+    variant: &Variant,
     r: &Rendered,
     report: &RenderReport,
     reference: &Rendered,
@@ -150,126 +173,109 @@ pub fn compare(
 ) -> AccuracyRow {
     let n = (L2_SECONDS * out_rate as f64).round() as usize;
     AccuracyRow {
-        value,
+        setting: variant.setting.clone(),
+        value: variant.value,
         sim_rate: report.sim_rate,
+        n_phi: report.n_phi,
+        n_psi: report.n_psi,
+        scheme: report.scheme.clone(),
         wall_seconds: report.wall_seconds,
         l2_50ms: relative_l2(&r.out[0], &reference.out[0], n),
         lsd_db: log_spectral_distance(&r.out[0], &reference.out[0]),
+        partial_cents: report.linear_partials_max_cents,
         energy_balance_error: report.energy.max_balance_error,
         energy_drift: report.energy.max_rel_drift,
         max_penetration: report.contact.as_ref().map(|c| c.max_penetration),
         newton_failures: report.contact.as_ref().map(|c| c.newton_failures),
-        scheme: None,
     }
 }
 
+/// Renders `reference` and every variant and compares each with the reference; `vary` names
+/// the setting and `reference_description` says how the reference was made (both go into the
+/// table). All scenes must share the output rate and duration. `log` receives one line per
+/// finished render.
+pub fn study(
+    vary: &str,
+    variants: &[Variant],
+    reference: &Scene,
+    reference_description: String,
+    mut log: impl FnMut(&str),
+) -> Result<AccuracyStudy, String> {
+    let out_rate = reference.output.sample_rate;
+    for v in variants {
+        if v.scene.output.sample_rate != out_rate
+            || v.scene.output.seconds != reference.output.seconds
+        {
+            return Err(format!(
+                "accuracy study: setting `{}` changes the output rate or duration; compare at one output",
+                v.setting
+            ));
+        }
+    }
+    let (ref_out, ref_report) = render_scene(reference, |_| {})?;
+    log(&format!(
+        "reference ({reference_description}): {:.2} s wall",
+        ref_report.wall_seconds
+    ));
+    let mut rows = Vec::new();
+    for v in variants {
+        let (r, report) = render_scene(&v.scene, |_| {})?;
+        let row = compare(v, &r, &report, &ref_out, out_rate);
+        log(&format!(
+            "{} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, partials {} cents, balance error {:.2e}",
+            vary,
+            v.setting,
+            row.wall_seconds,
+            row.l2_50ms,
+            row.lsd_db,
+            row.partial_cents.map_or("-".into(), |c| format!("{c:.2e}")),
+            row.energy_balance_error
+        ));
+        rows.push(row);
+    }
+    Ok(AccuracyStudy {
+        scene: reference.name.clone(),
+        vary: vary.into(),
+        seconds: reference.output.seconds,
+        compare_rate: out_rate,
+        reference: reference_description,
+        reference_wall_seconds: ref_report.wall_seconds,
+        reference_energy_balance_error: ref_report.energy.max_balance_error,
+        reference_partial_cents: ref_report.linear_partials_max_cents,
+        rows,
+    })
+}
+
 /// Renders `scene` at each simulation rate of `rates` (Hz) and at `reference_rate`, and
-/// compares each with the reference. `log` receives one line per finished render.
+/// compares each with the reference (the `rate` study of [`study`]).
 pub fn study_rate(
     scene: &Scene,
     rates: &[f64],
     reference_rate: f64,
-    mut log: impl FnMut(&str),
+    log: impl FnMut(&str),
 ) -> Result<AccuracyStudy, String> {
     let at = |fs: f64| -> Result<Scene, String> {
         let mut s = scene.clone();
         s.set_sim_rate(fs).map_err(|e| e.to_string())?;
         Ok(s)
     };
-    let out_rate = scene.output.sample_rate;
-    let (reference, ref_report) = render_scene(&at(reference_rate)?, |_| {})?;
-    log(&format!(
-        "reference: {} Hz, {:.2} s wall",
-        reference_rate, ref_report.wall_seconds
-    ));
-    let mut rows = Vec::new();
-    for &fs in rates {
-        let (r, report) = render_scene(&at(fs)?, |_| {})?;
-        let row = compare(fs, &r, &report, &reference, out_rate);
-        log(&format!(
-            "{} Hz: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, balance error {:.2e}",
-            fs, row.wall_seconds, row.l2_50ms, row.lsd_db, row.energy_balance_error
-        ));
-        rows.push(row);
-    }
-    Ok(AccuracyStudy {
-        scene: scene.name.clone(),
-        vary: "rate".into(),
-        seconds: scene.output.seconds,
-        compare_rate: out_rate,
-        reference: format!(
-            "the same scene at sim_rate = {reference_rate} Hz (same modes, same scheme)"
-        ),
-        reference_wall_seconds: ref_report.wall_seconds,
-        reference_energy_balance_error: ref_report.energy.max_balance_error,
-        rows,
-    })
-}
-
-/// Renders the string scene `scene` under every contact scheme ([`ContactScheme::ALL`]) at each
-/// simulation rate of `rates` (Hz) and compares each with the reference: the scene with the
-/// Newton scheme at `reference_rate` (a render equal to the reference is skipped). `log`
-/// receives one line per finished render. Errors for scenes without a string.
-pub fn study_scheme(
-    scene: &Scene,
-    rates: &[f64],
-    reference_rate: f64,
-    mut log: impl FnMut(&str),
-) -> Result<AccuracyStudy, String> {
-    if scene.string.is_none() {
-        return Err(format!(
-            "invalid value for `--vary`: scheme (allowed: rate; scheme needs a [string] scene, {} has none)",
-            scene.name
-        ));
-    }
-    let at = |fs: f64, scheme: ContactScheme| -> Result<Scene, String> {
-        let mut s = scene.clone();
-        if let Some(st) = &mut s.string {
-            st.contact_scheme = scheme.name().into();
-        }
-        s.set_sim_rate(fs).map_err(|e| e.to_string())?;
-        Ok(s)
-    };
-    let newton = ContactScheme::NewtonDiscreteGradient;
-    let out_rate = scene.output.sample_rate;
-    let (reference, ref_report) = render_scene(&at(reference_rate, newton)?, |_| {})?;
-    log(&format!(
-        "reference: newton at {} Hz, {:.2} s wall",
-        reference_rate, ref_report.wall_seconds
-    ));
-    let mut rows = Vec::new();
-    for &fs in rates {
-        for scheme in ContactScheme::ALL {
-            if scheme == newton && fs == reference_rate {
-                continue;
-            }
-            let (r, report) = render_scene(&at(fs, scheme)?, |_| {})?;
-            let mut row = compare(fs, &r, &report, &reference, out_rate);
-            row.scheme = Some(scheme.name().into());
-            log(&format!(
-                "{} at {} Hz: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, balance error {:.2e}",
-                scheme.name(),
-                fs,
-                row.wall_seconds,
-                row.l2_50ms,
-                row.lsd_db,
-                row.energy_balance_error
-            ));
-            rows.push(row);
-        }
-    }
-    Ok(AccuracyStudy {
-        scene: scene.name.clone(),
-        vary: "scheme".into(),
-        seconds: scene.output.seconds,
-        compare_rate: out_rate,
-        reference: format!(
-            "the same scene with the Newton contact scheme at sim_rate = {reference_rate} Hz (same modes)"
-        ),
-        reference_wall_seconds: ref_report.wall_seconds,
-        reference_energy_balance_error: ref_report.energy.max_balance_error,
-        rows,
-    })
+    let variants = rates
+        .iter()
+        .map(|&fs| {
+            Ok(Variant {
+                setting: format!("{fs}"),
+                value: Some(fs),
+                scene: at(fs)?,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    study(
+        "rate",
+        &variants,
+        &at(reference_rate)?,
+        format!("the same scene at sim_rate = {reference_rate} Hz (same modes, same scheme)"),
+        log,
+    )
 }
 
 #[cfg(test)]

@@ -43,6 +43,10 @@ pub struct RenderReport {
     /// Spectral centroid of pickup 1 (Hz) over the first and the last 100 ms: a rising value
     /// shows energy moving to high frequencies (the gong's cascade); `null` for silence.
     pub spectral_centroid_hz: [Option<f64>; 2],
+    /// Largest error (cents) of the scheme's linear partials against the continuous model's,
+    /// over the modes below the output's Nyquist frequency (closed form,
+    /// [`crate::analysis::dispersion`]); `null` when the model reports none.
+    pub linear_partials_max_cents: Option<f64>,
     /// Contact solver figures (models with a contact only): `contact.max_penetration`,
     /// `contact.newton_max_iterations`, `contact.newton_failures`, the iteration histogram.
     #[serde(skip_serializing_if = "Option::is_none")]

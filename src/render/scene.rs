@@ -4,6 +4,7 @@
 use super::offline::{render_with_shapes, Rendered};
 use super::report::{spectral_centroid, RenderReport};
 use super::source::RenderSource;
+use crate::analysis::dispersion::max_cents_error;
 use crate::models::plate::voice::PlateVoice;
 use crate::models::string::StiffString;
 use crate::scene::{Scene, StringScene};
@@ -133,6 +134,10 @@ pub fn render_scene(
                 spectral_centroid(&ch[ch.len() - n..], rate),
             ]
         },
+        linear_partials_max_cents: max_cents_error(
+            &source.linear_partials(),
+            0.5 * (scene.output.sample_rate as f64).min(source.sim_rate()),
+        ),
         contact: source.contact(),
         details,
     };

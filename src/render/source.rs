@@ -99,6 +99,12 @@ pub trait RenderSource {
     fn output_delay(&self, _channel: usize) -> f64 {
         0.0
     }
+    /// The linear partials: each mode's continuous damped frequency and the frequency its
+    /// scheme simulates (closed form, [`crate::analysis::dispersion`]); empty by default.
+    /// Called once after a render (allocates).
+    fn linear_partials(&self) -> Vec<crate::analysis::dispersion::LinearPartial> {
+        Vec::new()
+    }
     /// Contact solver counters, for models with a contact (default: none).
     fn contact(&self) -> Option<ContactSummary> {
         None

@@ -325,6 +325,10 @@ impl RenderSource for PlateVoice {
         self.model.scheme().is_conservative()
     }
 
+    fn linear_partials(&self) -> Vec<crate::analysis::dispersion::LinearPartial> {
+        self.model.linear_partials()
+    }
+
     fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
         match serde_json::to_value(&self.info) {
             Ok(serde_json::Value::Object(m)) => m,

@@ -483,6 +483,25 @@ impl RenderSource for StiffString {
         true
     }
 
+    /// The exact scheme's recursion `q⁺ - C q + C̃ q⁻` against `√(ω_j² - σ_j²)`: equal to
+    /// round-off (the metric shows that, it is not assumed).
+    fn linear_partials(&self) -> Vec<crate::analysis::dispersion::LinearPartial> {
+        use crate::analysis::dispersion::{damped_frequency, two_step_frequency, LinearPartial};
+        let h = self.h;
+        self.coeffs
+            .iter()
+            .enumerate()
+            .filter_map(|(j, c)| {
+                let exact = damped_frequency(self.params.omega(j + 1), self.sigma[j])?;
+                let sim = two_step_frequency(c.c, c.c_tilde, h)?;
+                Some(LinearPartial {
+                    exact_hz: exact / std::f64::consts::TAU,
+                    simulated_hz: sim / std::f64::consts::TAU,
+                })
+            })
+            .collect()
+    }
+
     /// Sample 0 is written after the first step, which computes `u^{s+1}` from `u^s`
     /// (`s = start_index`): a displacement `u^{s+1}` lies at `(s+1)h`, a velocity
     /// `(u^{s+1} - u^s)/h` is centred at `(s+½)h`, a bridge force `f^s` acts at `s h`.

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Regenerates the tables and figures of docs/ACCURACY.md (one command: `bash docs/accuracy.sh`;
+# add `--long` for the lecture's 2 MHz sitar rate study, about 4 minutes of CPU).
+# Writes docs/figures/<scene>-accuracy-<setting>.{csv,json,png} and prints each table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+N=${CARGO_TARGET_DIR:-target}/release/noether
+OUT=docs/figures
+# The default gong scene (100 transverse and 30 in-plane modes, 48 kHz, 60 N strike), 0.3 s.
+GONG=(assets/scenes/gong.toml --set output.seconds=0.3 --out "$OUT")
+"$N" accuracy "${GONG[@]}" --vary scheme --values conservative,conservative-exact,stormer-verlet,sav
+"$N" accuracy "${GONG[@]}" --vary rate --values 12000,24000,48000 --reference-rate 96000
+"$N" accuracy "${GONG[@]}" --vary modes --values 25,50,100
+"$N" accuracy "${GONG[@]}" --vary psi --values 5,10,20,30
+# The musical sitar (384 kHz), 0.2 s: how many modes the buzz needs.
+"$N" accuracy assets/scenes/sitar.toml --set output.seconds=0.2 --out "$OUT" \
+    --vary modes --values 110,220,440 --reference-set string.modes=880
+if [ "${1:-}" = "--long" ]; then
+    "$N" accuracy assets/scenes/seed-sitar.toml --vary rate \
+        --values 96000,192000,384000,1000000,2000000 --reference-rate 4000000 \
+        --set output.seconds=0.2 --out "$OUT"
+fi
