@@ -8,13 +8,18 @@
 //!   steps): wall time per simulated second = reported time × 100; one voice runs in real time
 //!   on one core when that is below 1 s.
 //!
+//! - `string_scheme/{newton,quadratised}-{384k,2m}/Nm`: the same string under each contact
+//!   scheme (the lecture's Newton discrete gradient, the energy-quadratised closed form), at
+//!   384 kHz (3840 steps per iteration, × 100 for a simulated second) and 2 MHz (4000 steps,
+//!   × 500), N_m = 209 and 1007.
+//!
 //! Throughput is reported in simulation steps per second. Every string is plucked once before
 //! timing and keeps ringing (and touching its bridge) across iterations.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use noether::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
-    StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
+    StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use std::hint::black_box;
@@ -97,5 +102,30 @@ fn bench_8x48k(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_2mhz, bench_8x48k);
+fn bench_schemes(c: &mut Criterion) {
+    let mut g = c.benchmark_group("string_scheme");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    for (rate, fs, steps) in [("384k", 384_000.0, 3840usize), ("2m", 2_000_000.0, 4000)] {
+        g.throughput(Throughput::Elements(steps as u64));
+        for &m in &[200, 1000] {
+            for scheme in ContactScheme::ALL {
+                let mut s = string(m, fs);
+                s.set_contact_scheme(scheme);
+                let mut out = vec![vec![0.0; steps]; s.channels()];
+                let id = BenchmarkId::new(format!("{}-{rate}", scheme.name()), intervals(m) - 1);
+                g.bench_with_input(id, &m, |b, _| {
+                    b.iter(|| {
+                        s.process(&mut out, steps);
+                        black_box(out[0][steps - 1])
+                    })
+                });
+            }
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_2mhz, bench_8x48k, bench_schemes);
 criterion_main!(benches);

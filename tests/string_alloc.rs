@@ -1,11 +1,11 @@
-//! The string model's real-time methods (`pluck`, `strike`, `reset`, `process`, `energy`) must
-//! not allocate: a counting global allocator (this test binary only) counts allocations made
+//! The string model's real-time methods (`set_contact_scheme`, `pluck`, `strike`, `reset`,
+//! `process`, `energy`) must not allocate, under both contact schemes (Newton and quadratised): a counting global allocator (this test binary only) counts allocations made
 //! by the current thread while armed. Fails on any allocation, so it cannot pass vacuously
 //! (the arming is checked with a deliberate `Vec` allocation first).
 
 use noether::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
-    StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
+    StiffString, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -51,6 +51,12 @@ fn counted(f: impl FnOnce()) -> usize {
 #[test]
 fn real_time_methods_do_not_allocate() {
     assert!(counted(|| drop(std::hint::black_box(vec![1u8; 16]))) > 0);
+    for scheme in ContactScheme::ALL {
+        check_scheme(scheme);
+    }
+}
+
+fn check_scheme(scheme: ContactScheme) {
     let mut s = StiffString::new(&StringConfig {
         params: StringParams::lecture_guitar(256, 48_000.0),
         losses: Losses::Valette(ValetteLosses::default()),
@@ -77,7 +83,9 @@ fn real_time_methods_do_not_allocate() {
     })
     .unwrap();
     let mut out = vec![vec![0.0; 512]; 3];
+    let mut touched = 0;
     let n = counted(|| {
+        s.set_contact_scheme(scheme);
         s.pluck(&TrianglePluck {
             position: 0.3,
             amplitude: 1e-3,
@@ -96,6 +104,7 @@ fn real_time_methods_do_not_allocate() {
             s.process(&mut out, 512);
         }
         std::hint::black_box(s.energy());
+        touched = s.contact_stats().contact_steps;
         s.reset();
         s.process(&mut out, 512);
     });
@@ -103,5 +112,12 @@ fn real_time_methods_do_not_allocate() {
         s.contact_stats().contact_steps == 0,
         "reset clears the counters"
     );
-    assert_eq!(n, 0, "allocations on the real-time path");
+    assert!(touched > 0, "the string never touched its bridge");
+    assert_eq!(s.contact_scheme(), scheme);
+    assert_eq!(
+        n,
+        0,
+        "allocations on the real-time path ({})",
+        scheme.name()
+    );
 }

@@ -18,8 +18,9 @@ pub enum Vary {
     Modes,
     /// In-plane modes N_Ψ (plate only). Default reference: twice the largest value.
     Psi,
-    /// The time scheme (plate: conservative, conservative-exact, stormer-verlet, sav).
-    /// Default reference: conservative-exact at twice the scene's rate.
+    /// The time scheme (plate: conservative, conservative-exact, stormer-verlet, sav; string:
+    /// the contact scheme, newton or quadratised). Default reference: conservative-exact
+    /// (plate) or newton (string) at twice the scene's rate.
     Scheme,
 }
 
@@ -42,9 +43,10 @@ impl Vary {
             (Vary::Modes, false) => "string.modes",
             (Vary::Psi, true) => "plate.n_psi",
             (Vary::Scheme, true) => "plate.scheme",
-            (Vary::Psi, false) | (Vary::Scheme, false) => {
+            (Vary::Scheme, false) => "string.contact_scheme",
+            (Vary::Psi, false) => {
                 return Err(format!(
-                    "invalid value for `--vary`: `{}` (allowed for a string scene: rate, modes)",
+                    "invalid value for `--vary`: `{}` (allowed for a string scene: rate, modes, scheme)",
                     self.name()
                 ))
             }
@@ -114,7 +116,14 @@ fn default_reference(a: &AccuracyArgs, base: &Scene, field: &str) -> Result<Vec<
         )],
         Vary::Modes | Vary::Psi => vec![format!("{field}={}", (2.0 * top()).round())],
         Vary::Scheme => vec![
-            format!("{field}=conservative-exact"),
+            format!(
+                "{field}={}",
+                if plate {
+                    "conservative-exact"
+                } else {
+                    "newton"
+                }
+            ),
             format!("{rate_field}={}", 2.0 * base_rate),
         ],
     })

@@ -36,6 +36,7 @@ pub fn build_string(scene: &StringScene) -> Result<StiffString, String> {
         e.to_string()
     };
     let mut s = StiffString::new(&scene.config()).map_err(scoped)?;
+    s.set_contact_scheme(scene.scheme().map_err(|e| e.to_string())?);
     if let Some(p) = scene.pluck() {
         s.pluck(&p).map_err(scoped)?;
     }
@@ -63,7 +64,12 @@ pub fn build_source(scene: &Scene) -> Result<SceneSource, String> {
         (None, Some(string)) => Ok(SceneSource {
             source: Box::new(build_string(string)?),
             model: "string",
-            scheme: "exact-modal+discrete-gradient-contact".into(),
+            scheme: match string.scheme() {
+                Ok(crate::models::string::ContactScheme::Quadratised) => {
+                    "exact-modal+quadratised-contact".into()
+                }
+                _ => "exact-modal+discrete-gradient-contact".into(),
+            },
             n_phi: string.modes,
             n_psi: 0,
             snapshots: string.effective_snapshots(),

@@ -6,7 +6,7 @@
 
 use crate::error::{check_closed, check_non_negative, ParamError};
 use crate::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity as ModelQuantity,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity as ModelQuantity,
     Readout as ModelReadout, SitarBridge, Stiffness, StrikeForce, StringConfig, StringParams,
     TrianglePluck, ValetteLosses,
 };
@@ -55,6 +55,9 @@ pub enum StringLosses {
     },
 }
 
+fn default_contact_scheme() -> String {
+    ContactScheme::default().name().into()
+}
 fn default_air_viscosity() -> f64 {
     ValetteLosses::default().air_viscosity
 }
@@ -231,6 +234,11 @@ pub struct StringScene {
     /// The contact law (default: the lecture's K = 1e13, α = 1.5).
     #[serde(default)]
     pub contact: StringContact,
+    /// The contact scheme: `"newton"` (the lecture's discrete gradient solved by Newton, the
+    /// default) or `"quadratised"` (energy quadratisation, one division per node; see
+    /// `models::string::contact_sav`).
+    #[serde(default = "default_contact_scheme")]
+    pub contact_scheme: String,
     /// The excitation.
     pub excitation: StringExcitation,
     /// Output channels (default: velocity pickups at 0.37 L and 0.83 L, a stereo pair).
@@ -383,6 +391,7 @@ impl StringScene {
             1e18,
         )?;
         check_closed("string.contact.exponent", self.contact.exponent, 1.0, 10.0)?;
+        self.scheme()?;
         match self.excitation {
             StringExcitation::Pluck {
                 position,
@@ -530,6 +539,12 @@ impl StringScene {
             },
             outputs,
         }
+    }
+
+    /// The contact scheme named by `contact_scheme` (error naming `string.contact_scheme` and
+    /// the allowed names otherwise).
+    pub fn scheme(&self) -> Result<ContactScheme, ParamError> {
+        ContactScheme::parse("string.contact_scheme", &self.contact_scheme)
     }
 
     /// The outputs to use: the scene's, or velocity pickups at 0.37 L and 0.83 L.

@@ -29,6 +29,11 @@
 //! unit mass) would give `u^{n+1} = u_free + S Λ S⁻¹ f`, a coupled system. The price is a
 //! consistency error `O(σ_j h)` in the force scaling (`σ_j h < 1e-3` for strings at audio rates).
 //!
+//! The same per-node structure admits a second, non-iterative contact force: the
+//! energy-quadratised scheme of Ducceschi et al. (JASA 2021), linear in `r_i` with a closed-form
+//! solution, which conserves a modified energy ([`contact_sav`], selected by
+//! [`StiffString::set_contact_scheme`]; Newton stays the default).
+//!
 //! One step ([`StiffString::step`]): free modal update (O(N)), one DST to the grid, the scalar
 //! solves at obstacle nodes, and, only if some force is non-zero, one DST of the nodal forces
 //! back to modal forces. Outputs read the grid or the modes ([`output`]).
@@ -46,6 +51,7 @@
 //! `H + dissipated` is, and with a force excitation `H + dissipated - work`.
 
 pub mod contact;
+pub mod contact_sav;
 pub mod exact;
 pub mod excitation;
 pub mod losses;
@@ -56,6 +62,7 @@ pub mod params;
 pub mod transform;
 
 pub use contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
+pub use contact_sav::ContactScheme;
 pub use excitation::{StrikeForce, TrianglePluck};
 pub use losses::{Losses, ValetteLosses};
 pub use model::{StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};

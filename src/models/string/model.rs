@@ -1,7 +1,8 @@
 //! The stiff string model: build, initial conditions, the time step, energy and outputs.
 //! See the module doc of [`crate::models::string`] for the scheme and its energy proof.
 
-use super::contact::{solve_point, ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
+use super::contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
+use super::contact_sav::ContactScheme;
 use super::exact::{exact_first_increment, ModeCoefficients};
 use super::excitation::{StrikeForce, TrianglePluck};
 use super::losses::Losses;
@@ -94,6 +95,12 @@ pub struct StiffString {
     rows: Vec<f64>,
     /// Contact law.
     law: ContactLaw,
+    /// Contact scheme (Newton by default; [`StiffString::set_contact_scheme`]).
+    scheme: ContactScheme,
+    /// Quadratised scheme's auxiliary `z_i^{n+1/2}` at the obstacle nodes, √(J/m): advanced
+    /// only by that scheme, re-initialised from the state on reset, initial conditions and
+    /// scheme switches.
+    contact_z: Vec<f64>,
     /// Solver counters.
     stats: ContactStats,
     /// Energy dissipated since the initial condition (J).
@@ -175,6 +182,8 @@ impl StiffString {
                 Vec::new()
             },
             law: config.contact,
+            scheme: ContactScheme::default(),
+            contact_z: vec![0.0; samples.len()],
             stats: ContactStats::default(),
             dissipated: 0.0,
             work: 0.0,
@@ -203,6 +212,7 @@ impl StiffString {
         self.obstacle_force = 0.0;
         self.steps = 0;
         self.start_index = 0;
+        self.init_quadratised();
     }
 
     /// Resets, then sets the initial modal displacement `q(0) = q0` and velocity `q̇(0) = v0`
@@ -228,6 +238,7 @@ impl StiffString {
         self.u_now.copy_from_slice(&self.q);
         self.map.synthesis(&mut self.u_now);
         self.start_index = 1;
+        self.init_quadratised();
     }
 
     /// Resets and sets the lecture's triangular pluck (zero velocity): `q(0) = S⁻¹ u0` of the
@@ -290,31 +301,12 @@ impl StiffString {
             *u = q + d;
         }
         self.map.synthesis(&mut self.u_next);
-        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i.
-        let mut total = 0.0;
-        let mut active = 0usize;
-        for (n, &i) in self.contact_nodes.iter().enumerate() {
-            let g = self.contact_g[n];
-            let eta_prev = g - self.u_prev[i];
-            let b = (g - self.u_next[i]) - eta_prev;
-            let sol = solve_point(&self.law, eta_prev, b, k);
-            self.stats.histogram[sol.iterations] += 1;
-            self.stats.cap_hits += u64::from(sol.capped);
-            self.contact_f[n] = sol.force;
-            if sol.force != 0.0 {
-                self.u_next[i] += k * sol.force;
-                total += sol.force;
-                active += 1;
-                let pen = g - self.u_next[i];
-                if pen > self.stats.max_penetration {
-                    self.stats.max_penetration = pen;
-                }
-            }
-        }
+        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i (Newton or quadratised).
+        let (total, active) = self.solve_contacts();
         self.obstacle_force = total * self.params.dx();
         // 4. Modal correction Δ += k S⁻¹ f, only when some force acted: a sum over the stored
         //    rows of S⁻¹ for a few active nodes, or one DST otherwise.
-        if total != 0.0 {
+        if active > 0 {
             self.stats.contact_steps += 1;
             let m = self.q.len();
             if self.rows.is_empty() || active > ROW_ACTIVE_LIMIT {
@@ -373,7 +365,8 @@ impl StiffString {
 
     /// The discrete energy terms at the current state `(n+1, n)` (O(N), no allocation):
     /// kinetic `Σ μ(1+c̃+c)/(8h²) (Δ^{n+1})²`, linear `Σ μβ/(8h²) (q^{n+1}+q^n)²`, nonlinear
-    /// (contact) `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2`, dissipated and work accumulated so far.
+    /// (contact) `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2` (Newton scheme) or `Δx Σ_i z_i²/2`
+    /// (quadratised scheme, [`super::contact_sav`]), dissipated and work accumulated so far.
     pub fn energy_terms(&self) -> EnergyTerms {
         let (mut kin, mut pot) = (0.0, 0.0);
         for j in 0..self.q.len() {
@@ -382,15 +375,14 @@ impl StiffString {
             kin += self.w_kin[j] * d * d;
             pot += self.w_pot[j] * s * s;
         }
-        let mut psi = 0.0;
-        for (n, &i) in self.contact_nodes.iter().enumerate() {
-            let g = self.contact_g[n];
-            psi += self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
-        }
+        let contact = match self.scheme {
+            ContactScheme::NewtonDiscreteGradient => self.contact_potential(),
+            ContactScheme::Quadratised => self.quadratised_energy(),
+        };
         EnergyTerms {
             kinetic: kin,
             linear: pot,
-            nonlinear: 0.5 * psi * self.params.dx(),
+            nonlinear: contact,
             dissipated: self.dissipated,
             work: self.work,
         }
@@ -567,6 +559,13 @@ impl RenderSource for StiffString {
         let s = &self.stats;
         let mut m = serde_json::Map::new();
         m.insert("modes".into(), self.q.len().into());
+        m.insert("contact_scheme".into(), self.scheme.name().into());
+        if self.scheme == ContactScheme::Quadratised {
+            m.insert(
+                "quadratisation_gap_j".into(),
+                self.quadratisation_gap().into(),
+            );
+        }
         m.insert("obstacle_nodes".into(), self.contact_nodes.len().into());
         m.insert("contact_steps".into(), s.contact_steps.into());
         m.insert("newton_max_iterations".into(), s.max_iterations().into());
@@ -589,4 +588,5 @@ impl RenderSource for StiffString {
     }
 }
 
+mod contact_step;
 mod retune;

@@ -1,0 +1,102 @@
+//! The per-node contact solve of [`StiffString::step`] under either [`ContactScheme`], the
+//! quadratised scheme's auxiliary variable and its energy.
+//!
+//! Both schemes share everything but the scalar solve at each obstacle node (module docs of
+//! [`crate::models::string`], [`crate::models::string::contact`] and
+//! [`crate::models::string::contact_sav`]).
+
+use super::StiffString;
+use crate::models::string::contact::solve_point;
+use crate::models::string::contact_sav::{solve_point_quadratised, ContactScheme};
+
+impl StiffString {
+    /// Selects the contact scheme. The quadratised auxiliary variable is re-initialised from
+    /// the current state (`z = √(ψ(η^{n+1}) + ψ(η^n))`), so both schemes' energies agree at the
+    /// switch. O(obstacle nodes), no allocation: callable from the audio thread.
+    pub fn set_contact_scheme(&mut self, scheme: ContactScheme) {
+        self.scheme = scheme;
+        self.init_quadratised();
+    }
+
+    /// The contact scheme in use.
+    pub fn contact_scheme(&self) -> ContactScheme {
+        self.scheme
+    }
+
+    /// `z_i = √(ψ(η_i^{n+1}) + ψ(η_i^n))` at every obstacle node (see
+    /// [`crate::models::string::contact_sav`], "Initial value").
+    pub(super) fn init_quadratised(&mut self) {
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            let two_psi = self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
+            self.contact_z[n] = two_psi.sqrt();
+        }
+    }
+
+    /// Newton scheme's contact energy `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2` in J.
+    pub(super) fn contact_potential(&self) -> f64 {
+        let mut psi = 0.0;
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            psi += self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
+        }
+        0.5 * psi * self.params.dx()
+    }
+
+    /// Quadratised scheme's contact energy `Δx Σ_i z_i²/2` in J.
+    pub(super) fn quadratised_energy(&self) -> f64 {
+        0.5 * self.params.dx() * self.contact_z.iter().map(|z| z * z).sum::<f64>()
+    }
+
+    /// `Δx Σ_i (z_i²/2 - (ψ(η_i^{n+1}) + ψ(η_i^n))/2)` in J: how far the quadratised
+    /// scheme's contact energy is from the physical potential at the current state (0 for
+    /// the Newton scheme, whose `z` is not advanced). Includes the energy left in `z` at nodes
+    /// that have left the obstacle (module doc of `contact_sav`). O(obstacle nodes).
+    pub fn quadratisation_gap(&self) -> f64 {
+        match self.scheme {
+            ContactScheme::NewtonDiscreteGradient => 0.0,
+            ContactScheme::Quadratised => self.quadratised_energy() - self.contact_potential(),
+        }
+    }
+
+    /// Step 3 of [`StiffString::step`]: solves every obstacle node with `u_free` in `u_next`
+    /// and `u^{n}`, `u^{n-1}` in `u_now`, `u_prev`; adds `k f_i` to `u_next`, stores `f_i`,
+    /// updates the counters. Returns the sum of the force densities (N/m) and the number of
+    /// nodes with a non-zero force. Bounded work: at most `NEWTON_CAP` iterations per node
+    /// (Newton) or one division (quadratised).
+    pub(super) fn solve_contacts(&mut self) -> (f64, usize) {
+        let k = self.k;
+        let mut total = 0.0;
+        let mut active = 0usize;
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            let eta_prev = g - self.u_prev[i];
+            let b = (g - self.u_next[i]) - eta_prev;
+            let force = match self.scheme {
+                ContactScheme::NewtonDiscreteGradient => {
+                    let sol = solve_point(&self.law, eta_prev, b, k);
+                    self.stats.histogram[sol.iterations] += 1;
+                    self.stats.cap_hits += u64::from(sol.capped);
+                    sol.force
+                }
+                ContactScheme::Quadratised => {
+                    let slope = self.law.quadratised_slope(g - self.u_now[i]);
+                    let sol = solve_point_quadratised(slope, self.contact_z[n], b, k);
+                    self.contact_z[n] = sol.z;
+                    sol.force
+                }
+            };
+            self.contact_f[n] = force;
+            if force != 0.0 {
+                self.u_next[i] += k * force;
+                total += force;
+                active += 1;
+                let pen = g - self.u_next[i];
+                if pen > self.stats.max_penetration {
+                    self.stats.max_penetration = pen;
+                }
+            }
+        }
+        (total, active)
+    }
+}
