@@ -20,4 +20,13 @@ if [ "${1:-}" = "--long" ]; then
     "$N" accuracy assets/scenes/seed-sitar.toml --vary rate \
         --values 96000,192000,384000,1000000,2000000 --reference-rate 4000000 \
         --set output.seconds=0.2 --out "$OUT"
+    # The string's quadratised contact against Newton at 4 MHz (docs/ACCURACY.md, "contact
+    # schemes"): the quadratised scheme at several rates, and Newton on the tanpura at 2 MHz.
+    Q=(--set output.seconds=0.2 --set string.contact_scheme=quadratised
+       --reference-set string.contact_scheme=newton --reference-set string.sim_rate=4000000
+       --out "$OUT/quadratised" --vary rate)
+    "$N" accuracy assets/scenes/seed-sitar.toml "${Q[@]}" --values 384000,2000000,4000000
+    "$N" accuracy assets/scenes/seed-tanpura.toml "${Q[@]}" --values 2000000,4000000
+    "$N" accuracy assets/scenes/seed-tanpura.toml --set output.seconds=0.2 --vary rate \
+        --values 2000000 --reference-rate 4000000 --out "$OUT"
 fi
