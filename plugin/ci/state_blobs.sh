@@ -25,7 +25,7 @@ blob("truncated", good[: len(good) // 2], length=len(good))
 blob("bad-length", good, length=1 << 62)
 blob("empty", b"")
 blob("wrong-types", json.dumps({"version": "0.1.0", "params": {
-    "model": {"string": "sitar"}, "modes": {"f32": 64.0}, "gain": {"bool": True},
+    "model": {"string": "sitar"}, "modes": {"f32": 100.0}, "gain": {"bool": True},
     "tension": {"i32": 200}, "polyphony": {"f32": 2.5}}, "fields": {}}).encode())
 blob("old-version", json.dumps({"version": "0.0.1", "params": {"size": {"f32": 0.5}},
                                 "fields": {}}).encode())
@@ -49,7 +49,8 @@ logged() {
 }
 
 for b in corrupt truncated bad-length empty; do run "$b" refused; done
-run wrong-types ok --expect "Model=sitar" --expect "Modes=64" --expect "Output gain=0" \
+# Modes 100: the sitar bridge (6 mm) must span a grid spacing (0.4 m / (modes + 1)).
+run wrong-types ok --expect "Model=sitar" --expect "Modes=100" --expect "Output gain=0" \
     --expect "Tension=200" --expect "Polyphony=4"
 logged wrong-types '`model` = "sitar" has the wrong type: converted to 3'
 logged wrong-types '`gain` = true has the wrong type: not a valid value, using the default 0'
