@@ -16,6 +16,7 @@ use crate::modal::{
     default_cache_dir, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
 };
 use crate::modal_rect::{RectModes, RectSpec};
+use crate::models::plate::voice::tensor_from_triplets;
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
 use crate::models::string::params::Stiffness;
 use crate::models::string::{
@@ -87,26 +88,6 @@ fn rect_key(aspect: f64, nf: usize, np: usize) -> (u64, usize, usize) {
     (aspect.to_bits(), nf, np)
 }
 
-/// Converts the rectangle's triplets to the CSR layout (as `models::plate::voice`).
-fn rect_tensor(m: &RectModes) -> Result<CouplingTensor, ParamError> {
-    let t = &m.coupling;
-    let mut row_start = vec![0u32; t.n_psi + 1];
-    for &l in &t.l {
-        row_start[l as usize + 1] += 1;
-    }
-    for l in 0..t.n_psi {
-        row_start[l + 1] += row_start[l];
-    }
-    CouplingTensor::from_parts(
-        t.n_phi,
-        t.n_psi,
-        row_start,
-        t.i.clone(),
-        t.j.clone(),
-        t.value.clone(),
-    )
-}
-
 impl ModalCache {
     fn circular(
         &mut self,
@@ -138,7 +119,7 @@ impl ModalCache {
         }
         let modes = RectModes::build(&RectSpec::new(aspect, nf, np))
             .map_err(|e| ParamError::new("modes", nf, format!("a buildable basis ({e})")))?;
-        let coupling = Arc::new(rect_tensor(&modes)?);
+        let coupling = Arc::new(tensor_from_triplets(&modes.coupling)?);
         let modes = Arc::new(modes);
         self.rect = Some((key, modes.clone(), coupling.clone()));
         Ok((modes, coupling))

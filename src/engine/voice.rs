@@ -411,16 +411,7 @@ impl Voice {
     /// Energy terms of the voice (J).
     pub fn energy_terms(&self) -> EnergyTerms {
         match &self.model {
-            VoiceModel::Plate(pv) => {
-                let e = pv.model.energy();
-                EnergyTerms {
-                    kinetic: e.kinetic,
-                    linear: e.linear,
-                    nonlinear: e.nonlinear,
-                    dissipated: e.dissipated,
-                    work: e.work,
-                }
-            }
+            VoiceModel::Plate(pv) => pv.model.energy().into(),
             VoiceModel::String(sv) => sv.model.energy_terms(),
         }
     }

@@ -39,3 +39,16 @@ impl PlateEnergy {
         self.total() + self.dissipated - self.work
     }
 }
+
+impl From<PlateEnergy> for crate::render::source::EnergyTerms {
+    /// The render and engine view of the plate's energy terms (J), same values.
+    fn from(e: PlateEnergy) -> Self {
+        Self {
+            kinetic: e.kinetic,
+            linear: e.linear,
+            nonlinear: e.nonlinear,
+            dissipated: e.dissipated,
+            work: e.work,
+        }
+    }
+}

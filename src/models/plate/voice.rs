@@ -78,8 +78,8 @@ fn map_err(e: ParamError) -> String {
 }
 
 /// Converts the rectangle's triplet list (sorted by `l`, then `i`, then `j ≤ i`) to the
-/// streaming CSR layout the time stepper reads.
-fn tensor_from_triplets(t: &CouplingTriplets) -> Result<CouplingTensor, ParamError> {
+/// streaming CSR layout the time stepper reads (also used by the engine's bank builder).
+pub(crate) fn tensor_from_triplets(t: &CouplingTriplets) -> Result<CouplingTensor, ParamError> {
     let mut row_start = vec![0u32; t.n_psi + 1];
     for &l in &t.l {
         row_start[l as usize + 1] += 1;
@@ -325,14 +325,7 @@ impl RenderSource for PlateVoice {
     }
 
     fn energy(&self) -> EnergyTerms {
-        let e = self.model.energy();
-        EnergyTerms {
-            kinetic: e.kinetic,
-            linear: e.linear,
-            nonlinear: e.nonlinear,
-            dissipated: e.dissipated,
-            work: e.work,
-        }
+        self.model.energy().into()
     }
 
     fn is_conservative(&self) -> bool {
