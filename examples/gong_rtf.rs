@@ -17,6 +17,7 @@ use noether::render::source::RenderSource;
 use noether::scene::Scene;
 
 fn voice(scheme: &str, fs: f64, n_phi: usize, n_psi: usize) -> PlateVoice {
+    let symmetry = std::env::var("GONG_RTF_SYMMETRY").unwrap_or_else(|_| "full".into());
     let text = format!(
         r#"
 [output]
@@ -30,6 +31,7 @@ n_phi = {n_phi}
 n_psi = {n_psi}
 sim_rate = {fs}
 scheme = "{scheme}"
+symmetry = "{symmetry}"
 damping = {{ law = "power", a = 0.005, b = 0.6 }}
 excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
 "#
