@@ -1,13 +1,14 @@
 //! The CLAP side of the test host: load, list and set parameters, round-trip the state through a
 //! second instance, play a scripted performance and write the output to a WAV file.
 
-use clack_extensions::params::{ParamInfoBuffer, PluginParams};
+use clack_extensions::params::{ParamInfoBuffer, ParamInfoFlags, PluginParams};
 use clack_extensions::state::PluginState;
 use clack_host::events::event_types::{MidiEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent};
 use clack_host::prelude::*;
 use std::ffi::CString;
 use std::path::PathBuf;
 
+use crate::hostile::HostileAutomation;
 use crate::{parse_num, path_arg};
 
 /// What `render` does, from the command line.
@@ -41,6 +42,9 @@ pub struct RenderOptions {
     pub expect_load: Option<bool>,
     /// Values the parameters must show after `load_state`: display name and display value.
     pub expects: Vec<(String, String)>,
+    /// Send out-of-range and non-finite values to every parameter each block and check the
+    /// values read back (see [`crate::hostile`]).
+    pub hostile_automation: bool,
 }
 
 impl RenderOptions {
@@ -63,6 +67,7 @@ impl RenderOptions {
             load_state: None,
             expect_load: None,
             expects: Vec::new(),
+            hostile_automation: false,
         };
         while let Some(flag) = it.next() {
             match flag.as_str() {
@@ -73,6 +78,7 @@ impl RenderOptions {
                 "--key" => o.keys.push(parse_num(flag, it.next())?),
                 "--velocity" => o.velocity = parse_num(flag, it.next())?,
                 "--state-roundtrip" => o.state_roundtrip = true,
+                "--hostile-automation" => o.hostile_automation = true,
                 "--load-state" => o.load_state = Some(path_arg(flag, it.next())?),
                 "--expect-load" => {
                     o.expect_load = match it.next().map(String::as_str) {
@@ -144,6 +150,8 @@ pub(crate) struct Param {
     pub min: f64,
     pub max: f64,
     pub default: f64,
+    /// Whether the parameter takes only whole CLAP values (`CLAP_PARAM_IS_STEPPED`).
+    pub stepped: bool,
 }
 
 fn new_instance(entry: &PluginEntry, id: &CString) -> Result<PluginInstance<TestHost>, String> {
@@ -175,6 +183,7 @@ fn list_params(instance: &mut PluginInstance<TestHost>) -> Result<Vec<Param>, St
             min: info.min_value,
             max: info.max_value,
             default: info.default_value,
+            stepped: info.flags.contains(ParamInfoFlags::IS_STEPPED),
         });
     }
     Ok(out)
@@ -355,7 +364,16 @@ fn schedule(o: &RenderOptions) -> Vec<(u64, Scheduled)> {
 }
 
 /// Renders the performance with an activated instance; returns interleaved stereo frames.
-fn perform(instance: &mut PluginInstance<TestHost>, o: &RenderOptions) -> Result<Vec<f32>, String> {
+fn perform(
+    instance: &mut PluginInstance<TestHost>,
+    params: &[Param],
+    o: &RenderOptions,
+) -> Result<Vec<f32>, String> {
+    let mut hostile = if o.hostile_automation {
+        Some(HostileAutomation::new(params, values(instance, params)?))
+    } else {
+        None
+    };
     let config = PluginAudioConfiguration {
         sample_rate: o.rate,
         min_frames_count: 1,
@@ -400,6 +418,9 @@ fn perform(instance: &mut PluginInstance<TestHost>, o: &RenderOptions) -> Result
             }
             next_event += 1;
         }
+        if let Some(h) = hostile.as_mut() {
+            h.push_events(&mut in_buf);
+        }
         out_buf.clear();
         let mut outputs = ports.with_output_buffers([AudioPortBuffer {
             latency: 0,
@@ -421,11 +442,17 @@ fn perform(instance: &mut PluginInstance<TestHost>, o: &RenderOptions) -> Result
             out.push(right[i]);
         }
         pos += n as u64;
+        if let Some(h) = hostile.as_mut() {
+            h.check(instance)?;
+        }
         // The plugin may ask for main-thread callbacks (GUI-free here); run them between blocks.
         instance.call_on_main_thread_callback();
     }
     let stopped = proc.stop_processing();
     instance.deactivate(stopped);
+    if let Some(h) = &hostile {
+        println!("{}", h.summary());
+    }
     Ok(out)
 }
 
@@ -490,7 +517,7 @@ pub fn render(o: &RenderOptions) -> Result<(), String> {
         first
     };
     let t0 = std::time::Instant::now();
-    let frames = perform(&mut instance, o)?;
+    let frames = perform(&mut instance, &params, o)?;
     let wall = t0.elapsed().as_secs_f64();
     println!(
         "rendered {:.3} s at {} Hz in blocks of {} in {:.3} s wall (real-time factor {:.2})",

@@ -9,6 +9,7 @@
 
 mod check;
 mod host;
+mod hostile;
 mod state_load;
 
 use std::path::PathBuf;
@@ -25,7 +26,7 @@ enum Command {
 
 fn usage() -> &'static str {
     "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
-     [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip]\n      \
+     [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip] [--hostile-automation]\n      \
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
      noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X]"
 }
