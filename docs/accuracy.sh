@@ -16,6 +16,25 @@ GONG=(assets/scenes/gong.toml --set output.seconds=0.3 --out "$OUT")
 # The musical sitar (384 kHz), 0.2 s: how many modes the buzz needs.
 "$N" accuracy assets/scenes/sitar.toml --set output.seconds=0.2 --out "$OUT" \
     --vary modes --values 110,220,440 --reference-set string.modes=880
+# The factory presets as the instrument plays them (root key, one voice, 48 kHz, 0.3 s, through
+# the engine): modes and simulation rate around each preset's own setting.
+P=(--seconds 0.3 --out "$OUT/presets")
+for g in gong-40N gong-80N rect-plate; do
+    "$N" accuracy --preset "$g" "${P[@]}" --vary modes --values 25,50,100
+    "$N" accuracy --preset "$g" "${P[@]}" --vary rate --values 8000,16000,32000 --reference-rate 64000
+    "$N" accuracy --preset "$g" "${P[@]}" --vary scheme \
+        --values conservative,conservative-exact,stormer-verlet,sav
+done
+# (The sitar bridge, 1 cm long, needs at least one grid spacing: 100 modes or more.)
+for s in sitar sitar-b0; do
+    "$N" accuracy --preset "$s" "${P[@]}" --vary modes --values 100,150,200
+done
+for s in tanpura tanpura-b0; do
+    "$N" accuracy --preset "$s" "${P[@]}" --vary modes --values 50,100,200
+done
+for s in sitar sitar-b0 tanpura tanpura-b0; do
+    "$N" accuracy --preset "$s" "${P[@]}" --vary rate --values 48000,96000,192000 --reference-rate 384000
+done
 if [ "${1:-}" = "--long" ]; then
     "$N" accuracy assets/scenes/seed-sitar.toml --vary rate \
         --values 96000,192000,384000,1000000,2000000 --reference-rate 4000000 \

@@ -1,11 +1,14 @@
 //! `noether accuracy SCENE --vary rate|modes|psi|scheme --values a,b,c [--reference-set P=V]`:
 //! render a scene under several settings and against a reference, write a CSV and JSON table
-//! and a PNG of the error against wall time. The metrics are those of
+//! and a PNG of the error against wall time. `noether accuracy --preset STEM ...` does the same
+//! for a factory preset played through the engine ([`noether::render::preset_accuracy`]). The metrics are those of
 //! [`noether::render::accuracy`] (stated in docs/ACCURACY.md).
 
 use clap::{Args, ValueEnum};
+use noether::engine::{ModelKind, ParamId, Preset};
 use noether::plot::{write_png, Mark, Panel, Scale, Series};
 use noether::render::accuracy::{study, AccuracyStudy, Variant};
+use noether::render::preset_accuracy::{preset_study, with_overrides, PresetVariant};
 use noether::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -61,8 +64,17 @@ impl Vary {
 /// Arguments of `noether accuracy`.
 #[derive(Debug, Args)]
 pub struct AccuracyArgs {
-    /// Scene file (TOML).
-    pub scene: PathBuf,
+    /// Scene file (TOML); or give `--preset`.
+    #[arg(required_unless_present = "preset", conflicts_with = "preset")]
+    pub scene: Option<PathBuf>,
+    /// A factory preset (file stem in assets/presets, e.g. gong-40N), played through the
+    /// real-time engine (root key, one voice, 48 kHz); `--set` and `--reference-set` then take
+    /// engine parameter keys (modes=100, sim_rate=32000, scheme=sav).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Rendered seconds for `--preset` (scenes use their `output.seconds`).
+    #[arg(long, default_value_t = 0.3)]
+    pub seconds: f64,
     /// Which setting to vary.
     #[arg(long, value_enum)]
     pub vary: Vary,
@@ -90,7 +102,8 @@ pub struct AccuracyArgs {
 fn load_with(a: &AccuracyArgs, extra: &[String]) -> Result<Scene, String> {
     let mut set = a.set.clone();
     set.extend_from_slice(extra);
-    Scene::load(&a.scene, &set).map_err(|e| e.to_string())
+    let path = a.scene.as_ref().ok_or("a scene file is required")?;
+    Scene::load(path, &set).map_err(|e| e.to_string())
 }
 
 /// The default reference overrides of a study (see [`Vary`]).
@@ -131,27 +144,117 @@ fn default_reference(a: &AccuracyArgs, base: &Scene, field: &str) -> Result<Vec<
 
 /// Runs `noether accuracy`.
 pub fn run(a: AccuracyArgs) -> Result<(), String> {
-    let base = load_with(&a, &[])?;
+    let study = match &a.preset {
+        Some(stem) => preset_run(&a, stem)?,
+        None => scene_run(&a)?,
+    };
+    write_outputs(&a.out, &study)
+}
+
+/// The engine parameter a preset study varies.
+fn preset_key(vary: Vary) -> &'static str {
+    match vary {
+        Vary::Rate => "sim_rate",
+        Vary::Modes => "modes",
+        Vary::Psi => "in_plane_modes",
+        Vary::Scheme => "scheme",
+    }
+}
+
+/// The study of a factory preset (see [`AccuracyArgs::preset`]).
+fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, String> {
+    let names: Vec<&str> = Preset::factory().iter().map(|(s, _)| *s).collect();
+    let factory = Preset::factory_named(stem).ok_or_else(|| {
+        format!(
+            "invalid value for `--preset`: `{stem}` (allowed: {})",
+            names.join(", ")
+        )
+    })?;
+    let base = with_overrides(&factory, &a.set)?;
+    let key = preset_key(a.vary);
+    let plate = base
+        .values()
+        .map(|v| ModelKind::from_params(&v).is_plate())
+        .map_err(|e| e.to_string())?;
+    if !plate && matches!(a.vary, Vary::Psi | Vary::Scheme) {
+        return Err(format!(
+            "invalid value for `--vary`: `{}` (allowed for a string preset: rate, modes)",
+            a.vary.name()
+        ));
+    }
+    let mut variants = Vec::new();
+    for v in &a.values {
+        let v = v.trim();
+        let value = parse_value(a.vary, v)?;
+        variants.push(PresetVariant {
+            setting: v.to_string(),
+            value,
+            preset: with_overrides(&base, &[format!("{key}={v}")])?,
+        });
+    }
+    let reference_set = if a.reference_set.is_empty() {
+        let top = variants.iter().filter_map(|v| v.value).fold(0.0, f64::max);
+        let rate = f64::from(
+            base.values()
+                .map_err(|e| e.to_string())?
+                .get(ParamId::SimRate),
+        );
+        match a.vary {
+            Vary::Rate => vec![format!(
+                "sim_rate={}",
+                a.reference_rate.unwrap_or(2.0 * top)
+            )],
+            Vary::Modes | Vary::Psi => vec![format!("{key}={}", (2.0 * top).round())],
+            Vary::Scheme => vec![
+                "scheme=conservative-exact".to_string(),
+                format!("sim_rate={}", 2.0 * rate),
+            ],
+        }
+    } else {
+        a.reference_set.clone()
+    };
+    let reference = with_overrides(&base, &reference_set)?;
+    let description = format!("the preset with {}", reference_set.join(", "));
+    eprintln!(
+        "accuracy of preset {stem} against {description} ({} s)",
+        a.seconds
+    );
+    preset_study(
+        stem,
+        a.vary.name(),
+        &variants,
+        &reference,
+        description,
+        a.seconds,
+        |l| eprintln!("  {l}"),
+    )
+}
+
+/// Parses one `--values` entry of a numeric study (`None` for schemes).
+fn parse_value(vary: Vary, v: &str) -> Result<Option<f64>, String> {
+    if !vary.numeric() {
+        return Ok(None);
+    }
+    match v.parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(x)),
+        _ => Err(format!(
+            "invalid value for `--values`: `{v}` (allowed for --vary {}: positive finite numbers)",
+            vary.name()
+        )),
+    }
+}
+
+/// The study of a scene file.
+fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, String> {
+    let base = load_with(a, &[])?;
     let field = a.vary.field(base.plate.is_some())?;
     if a.values.is_empty() {
         return Err("invalid value for `--values`: empty (allowed: one or more settings)".into());
     }
     let mut variants = Vec::new();
     for v in &a.values {
-        let value = if a.vary.numeric() {
-            match v.trim().parse::<f64>() {
-                Ok(x) if x.is_finite() && x > 0.0 => Some(x),
-                _ => {
-                    return Err(format!(
-                        "invalid value for `--values`: `{v}` (allowed for --vary {}: positive finite numbers)",
-                        a.vary.name()
-                    ))
-                }
-            }
-        } else {
-            None
-        };
-        let scene = load_with(&a, &[format!("{field}={}", v.trim())])?;
+        let value = parse_value(a.vary, v.trim())?;
+        let scene = load_with(a, &[format!("{field}={}", v.trim())])?;
         variants.push(Variant {
             setting: v.trim().to_string(),
             value,
@@ -159,31 +262,33 @@ pub fn run(a: AccuracyArgs) -> Result<(), String> {
         });
     }
     let reference_set = if a.reference_set.is_empty() {
-        default_reference(&a, &base, field)?
+        default_reference(a, &base, field)?
     } else {
         a.reference_set.clone()
     };
-    let reference = load_with(&a, &reference_set)?;
+    let reference = load_with(a, &reference_set)?;
     let description = format!("the scene with {}", reference_set.join(", "));
     eprintln!(
         "accuracy of {} against {description} ({} s)",
         base.name, base.output.seconds
     );
-    let study = study(a.vary.name(), &variants, &reference, description, |l| {
+    study(a.vary.name(), &variants, &reference, description, |l| {
         eprintln!("  {l}")
-    })?;
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("creating {}: {e}", a.out.display()))?;
-    let stem = a
-        .out
-        .join(format!("{}-accuracy-{}", study.scene, study.vary));
+    })
+}
+
+/// Writes the CSV, JSON and PNG of a study into `out` and prints the table.
+fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+    let stem = out.join(format!("{}-accuracy-{}", study.scene, study.vary));
     let csv_path = stem.with_extension("csv");
-    write_csv(&csv_path, &study)?;
+    write_csv(&csv_path, study)?;
     let json_path = stem.with_extension("json");
-    let json = serde_json::to_string_pretty(&study).map_err(|e| e.to_string())?;
+    let json = serde_json::to_string_pretty(study).map_err(|e| e.to_string())?;
     std::fs::write(&json_path, json + "\n")
         .map_err(|e| format!("writing {}: {e}", json_path.display()))?;
     let png_path = stem.with_extension("png");
-    write_figure(&png_path, &study)?;
+    write_figure(&png_path, study)?;
     println!(
         "reference: {} ({:.2} s wall, balance error {:.2e})",
         study.reference, study.reference_wall_seconds, study.reference_energy_balance_error

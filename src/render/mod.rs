@@ -3,6 +3,7 @@
 
 pub mod accuracy;
 pub mod offline;
+pub mod preset_accuracy;
 pub mod report;
 pub mod resample;
 pub mod scene;
