@@ -15,13 +15,13 @@ pub struct AutoArgs {
     /// Plate scene file (TOML); its n_phi, n_psi, symmetry and sim_rate are the full model.
     pub scene: PathBuf,
     /// Largest log-spectral distance to the full model, dB (sets quality.tolerance_db).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub tolerance_db: Option<f64>,
     /// Largest relative L2 error over the first 50 ms (sets quality.l2_tolerance).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub l2_tolerance: Option<f64>,
     /// Length of the verification renders in seconds (sets quality.excerpt_seconds).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub excerpt_seconds: Option<f64>,
     /// Write the reduced scene (TOML, no [quality] table) here.
     #[arg(long)]

@@ -186,7 +186,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, String> {
     let mut bands: Vec<(f64, usize)> = Vec::new();
     for &c in &cuts {
         let n = count_below(&basis, c, mirror);
-        if bands.last().map_or(true, |&(_, m)| m != n) {
+        if bands.last().is_none_or(|&(_, m)| m != n) {
             bands.push((c / top, n));
         }
     }
@@ -208,7 +208,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, String> {
         } else {
             ((f * psi_full as f64).ceil() as usize).max(1)
         };
-        if psis.last().map_or(true, |&(_, m)| m != n) {
+        if psis.last().is_none_or(|&(_, m)| m != n) {
             psis.push((f, n));
         }
     }

@@ -132,7 +132,7 @@ pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, S
         let (r, rep) = render_scene(&short(&c.size)?, |_| {})?;
         let (lsd, l2) = distance(&r, &full_r, rate);
         let passed =
-            rep.nan_count == 0 && lsd <= q.tolerance_db && q.l2_tolerance.map_or(true, |t| l2 <= t);
+            rep.nan_count == 0 && lsd <= q.tolerance_db && q.l2_tolerance.is_none_or(|t| l2 <= t);
         log(&format!(
             "{}: {:.3} s wall, LSD {lsd:.4} dB, L2(50 ms) {l2:.3e}{}",
             c.size.label(),
