@@ -2,6 +2,7 @@
 //! work is done by the library).
 
 mod accuracy;
+mod auto;
 mod lab;
 mod modes;
 mod render;
@@ -29,6 +30,9 @@ pub enum Command {
     /// Measure accuracy against cost: render a scene under several settings (e.g. simulation
     /// rates) and against a reference; write a table and a PNG of error against wall time.
     Accuracy(accuracy::AccuracyArgs),
+    /// Choose the cheapest plate model within a tolerance of the scene's (quality = "auto"),
+    /// verified against it on a short excerpt; print why, optionally write the reduced scene.
+    Auto(auto::AutoArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
     /// Sweep every model and scheme over extreme parameters and print the summary table.
@@ -40,6 +44,7 @@ pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Some(Command::Accuracy(args)) => accuracy::run(args),
+        Some(Command::Auto(args)) => auto::run(args),
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
         Some(Command::Render(args)) => render::run(args),

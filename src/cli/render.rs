@@ -2,6 +2,7 @@
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use noether::render::auto::select;
 use noether::render::report::write_plots;
 use noether::render::scene::render_scene;
 use noether::render::wav::{write_wav, WavFormat};
@@ -36,7 +37,15 @@ pub struct RenderArgs {
 
 /// Runs `noether render`.
 pub fn run(a: RenderArgs) -> Result<(), String> {
-    let scene = Scene::load(&a.scene, &a.set).map_err(|e| e.to_string())?;
+    let loaded = Scene::load(&a.scene, &a.set).map_err(|e| e.to_string())?;
+    // quality = "auto": choose and verify the reduced model first, then render it.
+    let (scene, auto) = if loaded.is_auto() {
+        eprintln!("quality = \"auto\": selecting the model of {}", loaded.name);
+        let (r, reduced) = select(&loaded, |l| eprintln!("  {l}"))?;
+        (reduced, Some(r))
+    } else {
+        (loaded, None)
+    };
     let wav = a
         .output
         .clone()
@@ -62,7 +71,8 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
             .map_err(|e| e.to_string())?,
     );
-    let (rendered, report) = render_scene(&scene, |f| bar.set_position((f * 1000.0) as u64))?;
+    let (rendered, mut report) = render_scene(&scene, |f| bar.set_position((f * 1000.0) as u64))?;
+    report.auto = auto;
     bar.finish_and_clear();
     write_wav(
         &wav,
@@ -94,6 +104,9 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         "  peak {:.4e}, wall {:.2} s, real-time factor {:.3}",
         report.peak, report.wall_seconds, report.realtime_factor
     );
+    if let Some(r) = &report.auto {
+        super::auto::print_summary(r);
+    }
     if let Some(c) = &report.contact {
         println!(
             "  contact: max penetration {:.3e} m, Newton max {} iterations, {} failures (cap {}), histogram {:?}",

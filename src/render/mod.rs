@@ -2,6 +2,7 @@
 //! sample-rate conversion.
 
 pub mod accuracy;
+pub mod auto;
 pub mod offline;
 pub mod preset_accuracy;
 pub mod report;

@@ -53,6 +53,9 @@ pub struct RenderReport {
     pub contact: Option<ContactSummary>,
     /// Model-specific figures.
     pub details: serde_json::Map<String, serde_json::Value>,
+    /// What `quality = "auto"` chose and how it was verified (auto scenes only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub auto: Option<super::auto::AutoReport>,
 }
 
 /// Power-weighted mean frequency (Hz) of `x` sampled at `rate`, Hann-windowed over its whole

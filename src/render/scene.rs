@@ -140,6 +140,7 @@ pub fn render_scene(
         ),
         contact: source.contact(),
         details,
+        auto: None,
     };
     Ok((rendered, report))
 }

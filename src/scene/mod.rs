@@ -10,9 +10,11 @@
 
 pub mod overrides;
 pub mod plate;
+pub mod quality;
 pub mod string;
 
 pub use plate::PlateScene;
+pub use quality::{Quality, QualityMode};
 pub use string::StringScene;
 
 use crate::error::{check_closed, ParamError};
@@ -67,6 +69,9 @@ pub struct Scene {
     /// The stiff string model, when the scene is a sitar, tanpura or other string.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub string: Option<StringScene>,
+    /// Model selection (`[quality]`): as given, or `mode = "auto"` with a tolerance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quality: Option<Quality>,
 }
 
 /// Errors while loading a scene.
@@ -137,6 +142,16 @@ impl Scene {
     /// Checks every field's range; errors name the dotted field.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.output.validate()?;
+        if let Some(q) = &self.quality {
+            q.validate()?;
+            if q.is_auto() && self.string.is_some() {
+                return Err(ParamError::new(
+                    "quality.mode",
+                    "auto",
+                    "\"as-given\" for string scenes (\"auto\" is implemented for plates)",
+                ));
+            }
+        }
         match (&self.plate, &self.string) {
             (Some(p), None) => p.validate(),
             (None, Some(s)) => s.validate(),
@@ -169,6 +184,11 @@ impl Scene {
             (None, Some(s)) => s.sim_rate,
             (None, None) => 0.0,
         }
+    }
+
+    /// Whether the scene asks for automatic model selection (`quality.mode = "auto"`).
+    pub fn is_auto(&self) -> bool {
+        self.quality.is_some_and(|q| q.is_auto())
     }
 
     /// Sets the simulation rate of the scene's model to `fs` (Hz) and re-validates.
