@@ -10,7 +10,9 @@
 //! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
 //! callgrind with a few steps).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+use noether::modal::CouplingTensor;
 
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
@@ -40,6 +42,54 @@ excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_forc
     PlateVoice::build(scene.plate.as_ref().expect("plate")).expect("voice")
 }
 
+/// CPU time of the calling thread (`CLOCK_THREAD_CPUTIME_ID`: immune to other processes on
+/// the shared machine, unlike wall time).
+fn thread_cpu_time() -> Duration {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is supported by Linux.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}
+
+/// Thread-CPU nanoseconds per call of the fused SAV kernel, block layout then run layout
+/// (median of 5 batches, same tensor, same pseudo-random `q`).
+fn kernel_ab(t: &CouplingTensor) -> (f64, f64) {
+    let (nf, np) = (t.n_phi(), t.n_psi());
+    let q: Vec<f64> = (0..nf)
+        .map(|s| ((s * 7919) % 1000) as f64 * 1e-3 - 0.5)
+        .collect();
+    let w = vec![1.0; np];
+    let (mut eta, mut grad, mut scratch) = (
+        vec![0.0; np],
+        vec![0.0; nf],
+        vec![0.0; t.quartic_scratch_len()],
+    );
+    let reps = (2e7 / t.nnz().max(1) as f64).ceil() as usize;
+    let mut time = |blocks: bool| {
+        let mut v: Vec<f64> = (0..5)
+            .map(|_| {
+                let t0 = thread_cpu_time();
+                for _ in 0..reps {
+                    if blocks {
+                        t.quartic_gradient(&q, &w, &mut eta, &mut grad, &mut scratch);
+                    } else {
+                        t.quartic_gradient_runs(&q, &w, &mut eta, &mut grad, &mut scratch);
+                    }
+                    std::hint::black_box(&grad);
+                }
+                (thread_cpu_time() - t0).as_secs_f64() * 1e9 / reps as f64
+            })
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v[2]
+    };
+    (time(true), time(false))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.len() < 3 {
@@ -58,6 +108,25 @@ fn main() {
             }
         };
         let mut v = voice(scheme, fs, n_phi, n_psi);
+        let t = v.model().coupling();
+        let (classes, dense, stored, rest) = t.block_stats();
+        eprintln!(
+            "{n_phi}x{n_psi}: {} entries; {classes} mode classes, {dense} dense blocks \
+             ({stored} stored values), {rest} entries in the gathered remainder",
+            t.nnz()
+        );
+        if std::env::var("GONG_RTF_KERNEL").is_ok() {
+            let (b, r) = kernel_ab(t);
+            eprintln!(
+                "  kernel (thread CPU): blocks {:.1} us ({:.3} ns/entry), runs {:.1} us \
+                 ({:.3} ns/entry), ratio {:.2}",
+                b * 1e-3,
+                b / t.nnz() as f64,
+                r * 1e-3,
+                r / t.nnz() as f64,
+                r / b
+            );
+        }
         let block = 256;
         let secs = |var: &str, default: f64| -> f64 {
             std::env::var(var)

@@ -197,6 +197,11 @@ impl RunLayout {
         }
     }
 
+    /// Number of stored entries.
+    pub(crate) fn len(&self) -> usize {
+        self.half.len()
+    }
+
     /// The largest number of runs in one row (scratch size of [`Self::quartic_gradient`]).
     pub(crate) fn max_runs(&self) -> usize {
         self.row_runs

@@ -30,6 +30,7 @@ pub mod bessel;
 pub mod cache;
 pub mod circular;
 pub mod coupling;
+mod coupling_blocks;
 mod coupling_runs;
 pub mod quadrature;
 
