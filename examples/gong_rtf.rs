@@ -6,7 +6,11 @@
 //! `cargo run --release --example gong_rtf -- sav 48000 100 300:90 600`. `N_PSI` defaults to
 //! `0.3 N_PHI` (the README's tables). For each size: build (modal data cached on disk), run
 //! 0.1 s past the strike, then time three runs of 0.5 s of simulated sound; prints the median
-//! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1).
+//! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1),
+//! then the same from the thread's CPU time (immune to other load on a shared machine).
+//! Output is always 48 kHz (`PlateVoice::process`, resampling included); `FS` is the
+//! simulation rate. stderr: the coupling's block layout, and with `GONG_RTF_KERNEL` set a
+//! thread-CPU comparison of the block and run kernels of the SAV step.
 //! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
 //! callgrind with a few steps).
 
@@ -98,7 +102,7 @@ fn main() {
     }
     let scheme = &args[0];
     let fs: f64 = args[1].parse().expect("FS: a number (Hz)");
-    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf");
+    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf\tcpu_us_per_step\trtf_cpu");
     for size in &args[2..] {
         let (n_phi, n_psi) = match size.split_once(':') {
             Some((a, b)) => (a.parse().expect("N_PHI"), b.parse().expect("N_PSI")),
@@ -142,22 +146,28 @@ fn main() {
             v.process(&mut out, block);
         }
         let blocks = ((secs("GONG_RTF_SECONDS", 0.5) * fs) as usize / block).max(1);
-        let mut times: Vec<f64> = (0..3)
+        let (mut times, mut cpu): (Vec<f64>, Vec<f64>) = (0..3)
             .map(|_| {
-                let t = Instant::now();
+                let (t, c) = (Instant::now(), thread_cpu_time());
                 for _ in 0..blocks {
                     v.process(&mut out, block);
                 }
-                t.elapsed().as_secs_f64()
+                (
+                    t.elapsed().as_secs_f64(),
+                    (thread_cpu_time() - c).as_secs_f64(),
+                )
             })
-            .collect();
+            .unzip();
         times.sort_by(f64::total_cmp);
+        cpu.sort_by(f64::total_cmp);
         let steps = (blocks * block) as f64;
-        let per_step = times[1] / steps;
+        let (per_step, cpu_step) = (times[1] / steps, cpu[1] / steps);
         println!(
-            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}",
+            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}\t{:.3}\t{:.3}",
             per_step * 1e6,
-            1.0 / (per_step * fs)
+            1.0 / (per_step * fs),
+            cpu_step * 1e6,
+            1.0 / (cpu_step * fs)
         );
         assert!(
             out.iter().flatten().all(|x| x.is_finite()),
