@@ -8,7 +8,7 @@
 //! 50x15, 100x30, 300x100, 1000x300).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use noether::modal::{CircularEdge, CircularPlateSpec, PlateModes};
+use noether::modal::{default_cache_dir, CircularEdge, CircularPlateSpec, PlateModes};
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
@@ -93,5 +93,41 @@ fn precompute(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, steps, precompute);
+/// The fused SAV kernel alone (`quartic_gradient`: η and ∇U, one pass over the tensor), the
+/// dense selection-rule block layout against the run layout it replaced, on the gong's tensor
+/// at the sizes of `NOETHER_BENCH_SIZES`. Throughput: tensor entries (criterion's elem/s gives
+/// ns per entry as its inverse).
+fn kernel(c: &mut Criterion) {
+    let mut g = c.benchmark_group("gong-kernel");
+    g.sample_size(20);
+    for size in &list("NOETHER_BENCH_SIZES", "50x15,100x30,300x100,1000x300") {
+        let (a, b) = size.split_once('x').expect("NOETHER_BENCH_SIZES: NxM");
+        let (n_phi, n_psi): (usize, usize) = (a.parse().unwrap(), b.parse().unwrap());
+        let spec = CircularPlateSpec::new(CircularEdge::Free, 0.3, n_phi, n_psi, None).unwrap();
+        let (modes, _) = PlateModes::load_or_build(&spec, &default_cache_dir()).unwrap();
+        let t = &modes.coupling;
+        g.throughput(Throughput::Elements(t.nnz() as u64));
+        let q: Vec<f64> = (0..n_phi)
+            .map(|s| ((s * 7919) % 1000) as f64 * 1e-3 - 0.5)
+            .collect();
+        let w = vec![1.0; n_psi];
+        let (mut eta, mut grad) = (vec![0.0; n_psi], vec![0.0; n_phi]);
+        let mut scratch = vec![0.0; t.quartic_scratch_len()];
+        g.bench_function(format!("blocks/{n_phi}x{n_psi}"), |b| {
+            b.iter(|| {
+                t.quartic_gradient(&q, &w, &mut eta, &mut grad, &mut scratch);
+                black_box(grad[0])
+            })
+        });
+        g.bench_function(format!("runs/{n_phi}x{n_psi}"), |b| {
+            b.iter(|| {
+                t.quartic_gradient_runs(&q, &w, &mut eta, &mut grad, &mut scratch);
+                black_box(grad[0])
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, steps, kernel, precompute);
 criterion_main!(benches);

@@ -6,11 +6,17 @@
 //! `cargo run --release --example gong_rtf -- sav 48000 100 300:90 600`. `N_PSI` defaults to
 //! `0.3 N_PHI` (the README's tables). For each size: build (modal data cached on disk), run
 //! 0.1 s past the strike, then time three runs of 0.5 s of simulated sound; prints the median
-//! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1).
+//! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1),
+//! then the same from the thread's CPU time (immune to other load on a shared machine).
+//! Output is always 48 kHz (`PlateVoice::process`, resampling included); `FS` is the
+//! simulation rate. stderr: the coupling's block layout, and with `GONG_RTF_KERNEL` set a
+//! thread-CPU comparison of the block and run kernels of the SAV step.
 //! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
 //! callgrind with a few steps).
 
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+use noether::modal::CouplingTensor;
 
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
@@ -40,6 +46,54 @@ excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_forc
     PlateVoice::build(scene.plate.as_ref().expect("plate")).expect("voice")
 }
 
+/// CPU time of the calling thread (`CLOCK_THREAD_CPUTIME_ID`: immune to other processes on
+/// the shared machine, unlike wall time).
+fn thread_cpu_time() -> Duration {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is supported by Linux.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}
+
+/// Thread-CPU nanoseconds per call of the fused SAV kernel, block layout then run layout
+/// (median of 5 batches, same tensor, same pseudo-random `q`).
+fn kernel_ab(t: &CouplingTensor) -> (f64, f64) {
+    let (nf, np) = (t.n_phi(), t.n_psi());
+    let q: Vec<f64> = (0..nf)
+        .map(|s| ((s * 7919) % 1000) as f64 * 1e-3 - 0.5)
+        .collect();
+    let w = vec![1.0; np];
+    let (mut eta, mut grad, mut scratch) = (
+        vec![0.0; np],
+        vec![0.0; nf],
+        vec![0.0; t.quartic_scratch_len()],
+    );
+    let reps = (2e7 / t.nnz().max(1) as f64).ceil() as usize;
+    let mut time = |blocks: bool| {
+        let mut v: Vec<f64> = (0..5)
+            .map(|_| {
+                let t0 = thread_cpu_time();
+                for _ in 0..reps {
+                    if blocks {
+                        t.quartic_gradient(&q, &w, &mut eta, &mut grad, &mut scratch);
+                    } else {
+                        t.quartic_gradient_runs(&q, &w, &mut eta, &mut grad, &mut scratch);
+                    }
+                    std::hint::black_box(&grad);
+                }
+                (thread_cpu_time() - t0).as_secs_f64() * 1e9 / reps as f64
+            })
+            .collect();
+        v.sort_by(f64::total_cmp);
+        v[2]
+    };
+    (time(true), time(false))
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.len() < 3 {
@@ -48,7 +102,7 @@ fn main() {
     }
     let scheme = &args[0];
     let fs: f64 = args[1].parse().expect("FS: a number (Hz)");
-    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf");
+    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf\tcpu_us_per_step\trtf_cpu");
     for size in &args[2..] {
         let (n_phi, n_psi) = match size.split_once(':') {
             Some((a, b)) => (a.parse().expect("N_PHI"), b.parse().expect("N_PSI")),
@@ -58,6 +112,25 @@ fn main() {
             }
         };
         let mut v = voice(scheme, fs, n_phi, n_psi);
+        let t = v.model().coupling();
+        let (classes, dense, stored, rest) = t.block_stats();
+        eprintln!(
+            "{n_phi}x{n_psi}: {} entries; {classes} mode classes, {dense} dense blocks \
+             ({stored} stored values), {rest} entries in the gathered remainder",
+            t.nnz()
+        );
+        if std::env::var("GONG_RTF_KERNEL").is_ok() {
+            let (b, r) = kernel_ab(t);
+            eprintln!(
+                "  kernel (thread CPU): blocks {:.1} us ({:.3} ns/entry), runs {:.1} us \
+                 ({:.3} ns/entry), ratio {:.2}",
+                b * 1e-3,
+                b / t.nnz() as f64,
+                r * 1e-3,
+                r / t.nnz() as f64,
+                r / b
+            );
+        }
         let block = 256;
         let secs = |var: &str, default: f64| -> f64 {
             std::env::var(var)
@@ -73,22 +146,28 @@ fn main() {
             v.process(&mut out, block);
         }
         let blocks = ((secs("GONG_RTF_SECONDS", 0.5) * fs) as usize / block).max(1);
-        let mut times: Vec<f64> = (0..3)
+        let (mut times, mut cpu): (Vec<f64>, Vec<f64>) = (0..3)
             .map(|_| {
-                let t = Instant::now();
+                let (t, c) = (Instant::now(), thread_cpu_time());
                 for _ in 0..blocks {
                     v.process(&mut out, block);
                 }
-                t.elapsed().as_secs_f64()
+                (
+                    t.elapsed().as_secs_f64(),
+                    (thread_cpu_time() - c).as_secs_f64(),
+                )
             })
-            .collect();
+            .unzip();
         times.sort_by(f64::total_cmp);
+        cpu.sort_by(f64::total_cmp);
         let steps = (blocks * block) as f64;
-        let per_step = times[1] / steps;
+        let (per_step, cpu_step) = (times[1] / steps, cpu[1] / steps);
         println!(
-            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}",
+            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}\t{:.3}\t{:.3}",
             per_step * 1e6,
-            1.0 / (per_step * fs)
+            1.0 / (per_step * fs),
+            cpu_step * 1e6,
+            1.0 / (cpu_step * fs)
         );
         assert!(
             out.iter().flatten().all(|x| x.is_finite()),

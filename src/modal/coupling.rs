@@ -17,6 +17,7 @@
 //! Threads: built once on a worker thread (allocates); the kernels take `&self` and
 //! caller-owned slices, never allocate, and are meant for the audio thread.
 
+use super::coupling_blocks::{BlockLayout, PAD};
 use super::coupling_runs::{RunLayout, MAX_N_PHI};
 use crate::error::ParamError;
 
@@ -40,6 +41,8 @@ pub struct CouplingTensor {
     value: Vec<f64>,
     /// The same entries in the kernels' run layout (built from the arrays above).
     runs: RunLayout,
+    /// The same entries as dense selection-rule blocks (the fused SAV kernel).
+    blocks: BlockLayout,
 }
 
 impl CouplingTensor {
@@ -115,8 +118,10 @@ impl CouplingTensor {
             }
         }
         let runs = RunLayout::new(n_phi, &row_start, &i, &j, &value);
+        let blocks = BlockLayout::new(n_phi, &row_start, &i, &j, &value);
         Ok(Self {
             runs,
+            blocks,
             n_phi,
             n_psi,
             row_start,
@@ -220,10 +225,41 @@ impl CouplingTensor {
 
     /// Fused `eta[l] = Σ_{ij} H^l_{ij} q_i q_j` and `grad[s] = ∂/∂q_s Σ_l w_l eta_l²
     /// = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, reading each row of the tensor from memory once
-    /// (the gradient of a non-negative quartic potential when `w ≥ 0`). Slices: `q`, `grad`,
-    /// `scratch` of length `N_Φ`; `w`, `eta` of length `N_Ψ` (`eta`, `grad` overwritten).
+    /// (the gradient of a non-negative quartic potential when `w ≥ 0`). Slices: `q`, `grad` of
+    /// length `N_Φ`, `scratch` of length at least [`Self::quartic_scratch_len`]; `w`, `eta` of length `N_Ψ` (`eta`,
+    /// `grad` overwritten). Streams the dense selection-rule blocks of `coupling_blocks.rs`.
     /// Allocation-free, audio thread. Panics on wrong lengths.
     pub fn quartic_gradient(
+        &self,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        assert_eq!(q.len(), self.n_phi, "quartic_gradient: q length");
+        assert_eq!(grad.len(), self.n_phi, "quartic_gradient: grad length");
+        assert!(
+            scratch.len() >= Self::QUARTIC_SCRATCH_FACTOR * self.n_phi + 2 * PAD,
+            "quartic_gradient: scratch length"
+        );
+        assert_eq!(w.len(), self.n_psi, "quartic_gradient: w length");
+        assert_eq!(eta.len(), self.n_psi, "quartic_gradient: eta length");
+        self.blocks.quartic_gradient(q, w, eta, grad, scratch);
+    }
+
+    /// Scratch length [`Self::quartic_gradient`] needs: `3 N_Φ + 8` (permuted `q`, `H^l q` and
+    /// gradient, plus the zero padding of the 4-lane block kernel).
+    pub fn quartic_scratch_len(&self) -> usize {
+        Self::QUARTIC_SCRATCH_FACTOR * self.n_phi + 2 * PAD
+    }
+
+    const QUARTIC_SCRATCH_FACTOR: usize = 3;
+
+    /// The run-layout version of [`Self::quartic_gradient`] (gathers and scatters through
+    /// 16-bit indices; `scratch` of length at least `N_Φ`), kept as the reference the block
+    /// kernel is tested and benchmarked against. Allocation-free, audio thread.
+    pub fn quartic_gradient_runs(
         &self,
         q: &[f64],
         w: &[f64],
@@ -240,6 +276,12 @@ impl CouplingTensor {
         assert_eq!(w.len(), self.n_psi, "quartic_gradient: w length");
         assert_eq!(eta.len(), self.n_psi, "quartic_gradient: eta length");
         self.runs.quartic_gradient(q, w, eta, grad, scratch);
+    }
+
+    /// Layout statistics of the block kernel: `(classes, dense blocks, stored dense values
+    /// including zero padding, entries left in the gathered remainder)`.
+    pub fn block_stats(&self) -> (usize, usize, usize, usize) {
+        self.blocks.stats()
     }
 }
 
@@ -356,7 +398,11 @@ mod tests {
         let mut g = vec![0.0; nf * np];
         t.apply_force(&qa, &w, &mut f);
         t.coupling_matrix(&qa, &mut g);
-        let (mut eta_q, mut grad, mut scratch) = (vec![0.0; np], vec![0.0; nf], vec![0.0; nf]);
+        let (mut eta_q, mut grad, mut scratch) = (
+            vec![0.0; np],
+            vec![0.0; nf],
+            vec![0.0; t.quartic_scratch_len()],
+        );
         t.quartic_gradient(&qa, &w, &mut eta_q, &mut grad, &mut scratch);
         for s in 0..nf {
             let (mut want_f, mut want_grad, mut scale) = (0.0, 0.0, 0.0);
@@ -371,7 +417,14 @@ mod tests {
             close(f[s], want_f, scale);
             close(grad[s], want_grad, scale);
         }
-        assert_eq!(eta_q, eta_sym);
+        for l in 0..np {
+            // Block kernel (q·H^l q) against the run kernel: reordered sums, 1e-13 of Σ|terms|.
+            let scale: f64 = (0..nf)
+                .flat_map(|i| (0..nf).map(move |j| (i, j)))
+                .map(|(i, j)| (full(l, i, j) * qa[i] * qa[j]).abs())
+                .sum();
+            close(eta_q[l], eta_sym[l], scale);
+        }
     }
 
     #[test]

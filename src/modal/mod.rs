@@ -10,7 +10,8 @@
 //! - [`circular`]: characteristic equations and radial profiles (Leissa 1969);
 //! - [`coupling`]: the geometry-independent sparse tensor [`CouplingTensor`] and its
 //!   allocation-free kernels (`contract_eta`, `apply_force`, `coupling_matrix`,
-//!   `quartic_gradient`), streamed from a run layout (`coupling_runs.rs`);
+//!   `quartic_gradient`), streamed from a run layout (`coupling_runs.rs`) and, for the fused
+//!   SAV kernel `quartic_gradient`, from dense selection-rule blocks (`coupling_blocks.rs`);
 //! - [`assemble`]: tensor assembly for the circular plate (analytic angular integrals,
 //!   Gauss-Legendre radial quadrature, scoped threads);
 //! - [`cache`]: on-disk cache (`PlateModes::load_or_build`);
@@ -30,6 +31,7 @@ pub mod bessel;
 pub mod cache;
 pub mod circular;
 pub mod coupling;
+mod coupling_blocks;
 mod coupling_runs;
 pub mod quadrature;
 

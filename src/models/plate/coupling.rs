@@ -45,7 +45,7 @@ pub trait ModalCoupling: Send + Sync {
     fn coupling_matrix(&self, q: &[f64], g: &mut [f64]);
     /// Optional fused kernel: `eta[l] = Σ_{i,j} H^l_{i,j} q_i q_j` and
     /// `grad[s] = ∂/∂q_s Σ_l w_l eta_l² = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, with `scratch` of
-    /// length `N_Φ`. Returns `false` without writing anything when the implementation has no
+    /// length at least `3 N_Φ + 8`. Returns `false` without writing anything when the implementation has no
     /// fused kernel (the default; callers then use `contract_eta` and `apply_force`).
     fn quartic_gradient(
         &self,

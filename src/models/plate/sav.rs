@@ -61,7 +61,7 @@ pub(crate) struct SavStep {
     w: Vec<f64>,
     /// `g(q(n))` (√J per unit `q`, length `N_Φ`).
     g: Vec<f64>,
-    /// `A⁻¹ r` (length `N_Φ`); first the fused kernel's scratch.
+    /// `A⁻¹ r` (first `N_Φ` entries; length `3 N_Φ + 8`); first the fused kernel's scratch.
     y: Vec<f64>,
 }
 
@@ -87,7 +87,8 @@ impl SavStep {
             psi: 0.0,
             w: vec![0.0; n_psi],
             g: vec![0.0; n_phi],
-            y: vec![0.0; n_phi],
+            // The block kernel's scratch: permuted q, H^l q and gradient, + 8 padding.
+            y: vec![0.0; 3 * n_phi + 8],
         }
     }
 
