@@ -59,14 +59,16 @@ pub mod model;
 pub mod obstacle;
 pub mod output;
 pub mod params;
+pub mod rows;
 pub mod transform;
 
 pub use contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 pub use contact_sav::ContactScheme;
 pub use excitation::{StrikeForce, TrianglePluck};
 pub use losses::{Losses, ValetteLosses};
-pub use model::{StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};
+pub use model::{GridSynthesis, StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};
 pub use obstacle::{Obstacle, SitarBridge};
 pub use output::{OutputChannel, Quantity, Readout};
 pub use params::{Stiffness, StringParams};
+pub use rows::NodeRows;
 pub use transform::ModalMap;
