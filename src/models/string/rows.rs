@@ -7,50 +7,80 @@
 //! Since `S⁻¹ = Δx S` and `S` is symmetric, the row of `S⁻¹` at node `i` is `Δx` times the
 //! same values: one stored row serves both directions.
 //!
-//! Cost: `T · N_m` multiply-adds for `T` stored nodes against about `8 N log₂ N` flops (plus
-//! the FFT's memory passes) for a DST of the whole grid. The products are summed four rows at
-//! a time, each row in four interleaved partial sums (`j mod 4`), so one pass over the modal
-//! vector serves four nodes and the inner loop vectorises without reassociating a sum (strict
-//! IEEE order is kept within each partial sum; the result differs from the DST's by round-off).
+//! **Half rows.** `sin((N-j)πi/N) = sin(πi - jπi/N) = (-1)^{i+1} sin(jπi/N)`, so
+//! `S_{i,N-j} = (-1)^{i+1} S_ij` and
+//! `u_i = Σ_{j ≤ N/2} S_ij (w_j + (-1)^{i+1} w_{N-j})` (the middle mode `j = N/2` of an even
+//! `N` counted once). Only `j = 1..⌊N/2⌋` is stored; one O(N/2) pass per step folds `w` into
+//! its even and odd combinations, and each node's value is a dot product of half length. This
+//! halves both the multiply-adds and the memory a step streams.
+//!
+//! Cost: `T · N/2` multiply-adds for `T` stored nodes against about `8 N log₂ N` flops (plus
+//! the FFT's memory passes) for a DST of the whole grid. Nodes of one parity are summed four
+//! at a time (one pass over the folded vector serves four rows), each row in two interleaved
+//! SIMD partial sums ([`pulp`] picks AVX2+FMA or the portable lanes at run time), so the
+//! result differs from the DST's by round-off only (and between machines by round-off too).
 //!
 //! Built on the control thread; [`NodeRows::synthesize`] and [`NodeRows::add_row`] run on the
 //! audio thread without allocating.
 
+use pulp::{Arch, Simd, WithSimd};
 use std::f64::consts::PI;
 
-/// Rows of `S` at a fixed list of interior nodes.
+/// Rows of `S` at a fixed list of interior nodes, stored as half rows.
 ///
-/// Built on the control thread; read on the audio thread.
-#[derive(Debug, Clone, Default)]
+/// Built on the control thread; used on the audio thread.
+#[derive(Debug, Clone)]
 pub struct NodeRows {
     /// Interior index (`i - 1`) of each stored node, in storage order.
     nodes: Vec<usize>,
-    /// `rows[t·N_m + j-1] = S_{i_t j}` in m^-1/2 (node-major, contiguous rows).
+    /// `rows[t·H + j-1] = S_{i_t j}`, `j = 1..H`, `H = ⌊N/2⌋`, in m^-1/2 (node-major).
     rows: Vec<f64>,
-    /// Number of modes `N_m = N - 1` (row length).
+    /// Storage indices of the nodes with odd `i` (their values use `w_j + w_{N-j}`).
+    odd: Vec<usize>,
+    /// Storage indices of the nodes with even `i` (their values use `w_j - w_{N-j}`).
+    even: Vec<usize>,
+    /// Half-row length `H = ⌊N/2⌋`.
+    half: usize,
+    /// Number of pairs `j < N - j`, `j ≥ 1`: `⌊(N-1)/2⌋`.
+    pairs: usize,
+    /// Number of modes `N_m = N - 1`.
     modes: usize,
+    /// Scratch: `w_j + w_{N-j}` for `j = 1..H` (m^3/2).
+    sum: Vec<f64>,
+    /// Scratch: `w_j - w_{N-j}` for `j = 1..H` (m^3/2).
+    diff: Vec<f64>,
+    /// The SIMD level detected at build.
+    arch: Arch,
 }
 
 impl NodeRows {
     /// Stores the rows of `S` at `nodes` (interior indices `i - 1 < N - 1`, any order, no
     /// duplicates expected) for a string of length `length` (m) on `intervals = N` intervals.
-    /// Allocates `nodes.len() · (N - 1)` values; control thread.
+    /// Allocates `nodes.len() · ⌊N/2⌋` values; control thread.
     pub fn new(length: f64, intervals: usize, nodes: Vec<usize>) -> Self {
-        let m = intervals - 1;
+        let half = intervals / 2;
         let norm = (2.0 / length).sqrt();
         let two_n = 2 * intervals;
-        let mut rows = Vec::with_capacity(nodes.len() * m);
+        let mut rows = Vec::with_capacity(nodes.len() * half);
         for &k in &nodes {
             let i = k + 1;
-            rows.extend((1..=m).map(|j| {
+            rows.extend((1..=half).map(|j| {
                 let r = (i * j) % two_n;
                 norm * (PI * r as f64 / intervals as f64).sin()
             }));
         }
+        let (odd, even) = (0..nodes.len()).partition(|&t| nodes[t] % 2 == 0);
         Self {
             nodes,
             rows,
-            modes: m,
+            odd,
+            even,
+            half,
+            pairs: (intervals - 1) / 2,
+            modes: intervals - 1,
+            sum: vec![0.0; half],
+            diff: vec![0.0; half],
+            arch: Arch::new(),
         }
     }
 
@@ -69,82 +99,112 @@ impl NodeRows {
         &self.nodes
     }
 
-    /// Row `t` of `S` (m^-1/2), length `N - 1`.
-    pub fn row(&self, t: usize) -> &[f64] {
-        &self.rows[t * self.modes..(t + 1) * self.modes]
+    /// Half row `t`: `S_{i_t j}` for `j = 1..⌊N/2⌋` (m^-1/2).
+    pub fn half_row(&self, t: usize) -> &[f64] {
+        &self.rows[t * self.half..(t + 1) * self.half]
     }
 
     /// `out[i_t] = Σ_j S_{i_t j} w_j` for every stored node `t` (`w` in m^3/2, `out` in m, both
-    /// of length `N - 1`); other entries of `out` are left untouched. `T · N_m` multiply-adds,
-    /// no allocation.
-    pub fn synthesize(&self, w: &[f64], out: &mut [f64]) {
-        let m = self.modes;
-        assert!(w.len() == m && out.len() == m);
-        let mut quads = self.rows.chunks_exact(4 * m);
-        let mut t = 0;
-        for block in quads.by_ref() {
-            let (r0, rest) = block.split_at(m);
-            let (r1, rest) = rest.split_at(m);
-            let (r2, r3) = rest.split_at(m);
-            let s = dot4([r0, r1, r2, r3], w);
-            for (n, v) in s.into_iter().enumerate() {
-                out[self.nodes[t + n]] = v;
-            }
-            t += 4;
+    /// of length `N - 1`); other entries of `out` are left untouched. One O(N) fold of `w`,
+    /// then `T · ⌊N/2⌋` multiply-adds; no allocation.
+    pub fn synthesize(&mut self, w: &[f64], out: &mut [f64]) {
+        assert!(w.len() == self.modes && out.len() == self.modes);
+        // Fold: sum_j = w_j + w_{N-j}, diff_j = w_j - w_{N-j} (j = 1..pairs); the middle mode
+        // j = N/2 of an even N (if any) is counted once in both.
+        let (p, m) = (self.pairs, self.modes);
+        let upper = w[m - p..].iter().rev();
+        for (((s, d), &a), &b) in self
+            .sum
+            .iter_mut()
+            .zip(&mut self.diff)
+            .zip(&w[..p])
+            .zip(upper)
+        {
+            *s = a + b;
+            *d = a - b;
         }
-        for row in quads.remainder().chunks_exact(m) {
-            out[self.nodes[t]] = dot1(row, w);
-            t += 1;
+        if self.half > p {
+            self.sum[p] = w[p];
+            self.diff[p] = w[p];
+        }
+        let h = self.half;
+        for (list, folded) in [(&self.odd, &self.sum), (&self.even, &self.diff)] {
+            let mut blocks = list.chunks_exact(4);
+            for b in blocks.by_ref() {
+                let r = [b[0], b[1], b[2], b[3]].map(|t| &self.rows[t * h..(t + 1) * h]);
+                let v = self.arch.dispatch(Dots { r, w: folded });
+                for (&t, v) in b.iter().zip(v) {
+                    out[self.nodes[t]] = v;
+                }
+            }
+            for &t in blocks.remainder() {
+                let r = [&self.rows[t * h..(t + 1) * h]];
+                let [v] = self.arch.dispatch(Dots { r, w: folded });
+                out[self.nodes[t]] = v;
+            }
         }
     }
 
-    /// `acc += a · S_{i_t ·}`: adds `a` times row `t` to `acc` (length `N - 1`). No allocation.
+    /// `acc += a · S_{i_t ·}`: adds `a` times the full row `t` to `acc` (length `N - 1`), the
+    /// upper half from the stored half by `S_{i,N-j} = (-1)^{i+1} S_ij`. No allocation.
     pub fn add_row(&self, t: usize, a: f64, acc: &mut [f64]) {
-        for (d, r) in acc.iter_mut().zip(self.row(t)) {
+        let row = self.half_row(t);
+        let (h, p, m) = (self.half, self.pairs, self.modes);
+        let (lower, upper) = acc.split_at_mut(h);
+        for (d, r) in lower.iter_mut().zip(row) {
             *d += a * r;
         }
+        let b = if self.nodes[t] % 2 == 0 { a } else { -a };
+        // j = h+1..N-1 pairs with N-j = p..1: the upper part has exactly `p` entries.
+        debug_assert_eq!(upper.len(), p);
+        debug_assert_eq!(m - h, p);
+        for (d, r) in upper.iter_mut().rev().zip(&row[..p]) {
+            *d += b * r;
+        }
     }
 }
 
-/// Four dot products `⟨r_k, w⟩` in one pass over `w`, each summed in four interleaved partial
-/// sums (lanes `j mod 4`) that vectorise without reassociation.
-#[inline]
-fn dot4(r: [&[f64]; 4], w: &[f64]) -> [f64; 4] {
-    let mut acc = [[0.0f64; 4]; 4];
-    let n4 = w.len() - w.len() % 4;
-    let wc = w[..n4].chunks_exact(4);
-    let rc = r.map(|x| x[..n4].chunks_exact(4));
-    let [c0, c1, c2, c3] = rc;
-    for ((((wv, x0), x1), x2), x3) in wc.zip(c0).zip(c1).zip(c2).zip(c3) {
-        for l in 0..4 {
-            acc[0][l] += x0[l] * wv[l];
-            acc[1][l] += x1[l] * wv[l];
-            acc[2][l] += x2[l] * wv[l];
-            acc[3][l] += x3[l] * wv[l];
-        }
-    }
-    for j in n4..w.len() {
-        for k in 0..4 {
-            acc[k][0] += r[k][j] * w[j];
-        }
-    }
-    acc.map(|a| (a[0] + a[1]) + (a[2] + a[3]))
+/// `R` dot products `⟨r_k, w⟩` in one pass over `w`, each in two interleaved SIMD partial sums
+/// (lanes of the detected width), the scalar tail added last.
+struct Dots<'a, const R: usize> {
+    /// The rows (each as long as `w`).
+    r: [&'a [f64]; R],
+    /// The vector.
+    w: &'a [f64],
 }
 
-/// One dot product `⟨r, w⟩` in four interleaved partial sums.
-#[inline]
-fn dot1(r: &[f64], w: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let n4 = w.len() - w.len() % 4;
-    for (wv, x) in w[..n4].chunks_exact(4).zip(r[..n4].chunks_exact(4)) {
-        for l in 0..4 {
-            acc[l] += x[l] * wv[l];
+impl<const R: usize> WithSimd for Dots<'_, R> {
+    type Output = [f64; R];
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) -> [f64; R] {
+        let (wh, wt) = S::as_simd_f64s(self.w);
+        let rs = self.r.map(|x| S::as_simd_f64s(x));
+        let z = simd.splat_f64s(0.0);
+        let mut acc = [[z; 2]; R];
+        let n2 = wh.len() - wh.len() % 2;
+        for (j, wv) in wh[..n2].chunks_exact(2).enumerate() {
+            for (a, r) in acc.iter_mut().zip(&rs) {
+                let x = &r.0[2 * j..2 * j + 2];
+                a[0] = simd.mul_add_e_f64s(x[0], wv[0], a[0]);
+                a[1] = simd.mul_add_e_f64s(x[1], wv[1], a[1]);
+            }
         }
+        if n2 < wh.len() {
+            for (a, r) in acc.iter_mut().zip(&rs) {
+                a[0] = simd.mul_add_e_f64s(r.0[n2], wh[n2], a[0]);
+            }
+        }
+        let mut out = [0.0; R];
+        for ((o, a), r) in out.iter_mut().zip(&acc).zip(&rs) {
+            let mut s = simd.reduce_sum_f64s(simd.add_f64s(a[0], a[1]));
+            for (x, y) in r.1.iter().zip(wt) {
+                s += x * y;
+            }
+            *o = s;
+        }
+        out
     }
-    for j in n4..w.len() {
-        acc[0] += r[j] * w[j];
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 #[cfg(test)]
@@ -166,7 +226,7 @@ mod tests {
                 .into_iter()
                 .filter(|&x| x < m)
                 .collect();
-            let rows = NodeRows::new(l, n, nodes.clone());
+            let mut rows = NodeRows::new(l, n, nodes.clone());
             let w: Vec<f64> = (0..m).map(|j| ((j * 37 + 5) % 17) as f64 - 8.0).collect();
             let mut full = w.clone();
             ModalMap::new(l, n).synthesis(&mut full);
@@ -176,6 +236,20 @@ mod tests {
             for &i in &nodes {
                 let err = (out[i] - full[i]).abs();
                 assert!(err <= 1e-14 * scale, "N = {n}, node {i}: {err:e}");
+            }
+            // add_row rebuilds each full row from its half (upper half by the symmetry):
+            // equal to the dense S to the round-off of two sines whose arguments (≤ 2π) carry
+            // a relative error of an ulp, so an absolute error ≤ 2π ε √(2/L) each.
+            let dense = ModalMap::dense(l, n);
+            for (t, &i) in nodes.iter().enumerate() {
+                let mut acc = vec![0.0; m];
+                rows.add_row(t, 1.0, &mut acc);
+                for (a, b) in acc.iter().zip(&dense[i * m..(i + 1) * m]) {
+                    assert!(
+                        (a - b).abs() <= 4.0 * PI * f64::EPSILON * (2.0 / l).sqrt(),
+                        "{a} {b}"
+                    );
+                }
             }
             let untouched = (0..m)
                 .filter(|i| !nodes.contains(i))

@@ -106,7 +106,7 @@ impl StiffString {
         }
         // 2. Free grid displacement u_free = S (q + Δ_free): at the needed nodes from the
         //    stored rows, or on the whole grid by one DST.
-        match (&self.rows, rows_path) {
+        match (&mut self.rows, rows_path) {
             (Some(rows), true) => rows.synthesize(&self.w_buf, &mut self.u_next),
             _ => self.map.synthesis(&mut self.u_next),
         }
