@@ -21,8 +21,9 @@ use crate::render::source::{ContactSummary, EnergyTerms, RenderSource, ShapeSnap
 /// through a DST of the whole grid.
 pub const ROW_LIMIT: usize = 64;
 
-/// Largest number of simultaneously active contact nodes for which the stored rows are used;
-/// beyond it one DST (about `8 N log₂N` flops) is cheaper than `active · N` multiply-adds.
+/// Largest number of simultaneously active contact nodes for which the stored rows give the
+/// modal force (`active · N/2 + N` multiply-adds, [`NodeRows::add_rows`]); beyond it one DST
+/// (about `8 N log₂N` flops) is used.
 pub const ROW_ACTIVE_LIMIT: usize = 8;
 
 /// How a step obtains the grid displacement it needs (obstacle nodes, grid pickups).
@@ -113,6 +114,8 @@ pub struct StiffString {
     grid_buf: Vec<f64>,
     /// How a step computes grid values.
     synthesis: GridSynthesis,
+    /// SIMD level detected at build ([`pulp`]); the step's O(N) loops run at its width.
+    arch: pulp::Arch,
     /// Obstacle nodes (0-based interior index `i - 1`).
     contact_nodes: Vec<usize>,
     /// Obstacle heights `g_i` at those nodes (m).
@@ -204,6 +207,7 @@ impl StiffString {
             w_buf: vec![0.0; m],
             grid_buf: vec![0.0; m],
             synthesis,
+            arch: pulp::Arch::new(),
             contact_nodes: samples.iter().map(|s| s.0).collect(),
             contact_g: samples.iter().map(|s| s.1).collect(),
             contact_f: vec![0.0; samples.len()],

@@ -145,6 +145,46 @@ impl NodeRows {
         }
     }
 
+    /// `acc += a Σ_t f_t S_{i_t ·}` over the first `f.len()` stored rows (skipping `f_t = 0`):
+    /// the modal force of the active obstacle nodes. The rows of each parity are first summed
+    /// over the half range (`c_odd`, `c_even`, `active · ⌊N/2⌋` multiply-adds), then one pass
+    /// writes `acc_j += c_odd,j + c_even,j` and `acc_{N-j} += c_odd,j - c_even,j`. No allocation.
+    pub fn add_rows(&mut self, a: f64, f: &[f64], acc: &mut [f64]) {
+        let active = f.iter().filter(|&&x| x != 0.0).count();
+        if active <= 1 {
+            for (t, &ft) in f.iter().enumerate() {
+                if ft != 0.0 {
+                    self.add_row(t, a * ft, acc);
+                }
+            }
+            return;
+        }
+        let (h, p) = (self.half, self.pairs);
+        self.sum.fill(0.0);
+        self.diff.fill(0.0);
+        for (t, &ft) in f.iter().enumerate() {
+            if ft != 0.0 {
+                let row = &self.rows[t * h..(t + 1) * h];
+                let c = if self.nodes[t] % 2 == 0 {
+                    &mut self.sum
+                } else {
+                    &mut self.diff
+                };
+                axpy(self.arch, c, a * ft, row);
+            }
+        }
+        let (lower, upper) = acc.split_at_mut(h);
+        let (sum, diff) = (&self.sum, &self.diff);
+        self.arch.dispatch(|| {
+            for ((d, s), e) in lower.iter_mut().zip(sum).zip(diff) {
+                *d += s + e;
+            }
+            for ((d, s), e) in upper.iter_mut().rev().zip(&sum[..p]).zip(&diff[..p]) {
+                *d += s - e;
+            }
+        });
+    }
+
     /// `acc += a · S_{i_t ·}`: adds `a` times the full row `t` to `acc` (length `N - 1`), the
     /// upper half from the stored half by `S_{i,N-j} = (-1)^{i+1} S_ij`. No allocation.
     pub fn add_row(&self, t: usize, a: f64, acc: &mut [f64]) {
@@ -162,6 +202,16 @@ impl NodeRows {
             *d += b * r;
         }
     }
+}
+
+/// `y += a x` (same lengths), vectorised at the detected SIMD width.
+#[inline(always)]
+fn axpy(arch: Arch, y: &mut [f64], a: f64, x: &[f64]) {
+    arch.dispatch(|| {
+        for (y, x) in y.iter_mut().zip(x) {
+            *y += a * x;
+        }
+    });
 }
 
 /// `R` dot products `⟨r_k, w⟩` in one pass over `w`, each in two interleaved SIMD partial sums

@@ -82,28 +82,37 @@ impl StiffString {
         } else {
             &mut self.u_next
         };
-        let modes = self
-            .dq_next
-            .iter_mut()
-            .zip(w.iter_mut())
-            .zip(&self.c_tilde)
-            .zip(&self.beta)
-            .zip(&self.q)
-            .zip(&self.dq);
-        if fe == 0.0 {
-            for (((((dn, w), &ct), &b), &q), &d) in modes {
-                let x = ct * d - b * q;
-                *dn = x;
-                *w = q + x;
+        let (dn, ct, beta, q, dq, shape) = (
+            &mut self.dq_next,
+            &self.c_tilde,
+            &self.beta,
+            &self.q,
+            &self.dq,
+            &self.strike_shape,
+        );
+        let kf = k * fe;
+        self.arch.dispatch(|| {
+            let modes = dn
+                .iter_mut()
+                .zip(w.iter_mut())
+                .zip(ct)
+                .zip(beta)
+                .zip(q)
+                .zip(dq);
+            if fe == 0.0 {
+                for (((((dn, w), &ct), &b), &q), &d) in modes {
+                    let x = ct * d - b * q;
+                    *dn = x;
+                    *w = q + x;
+                }
+            } else {
+                for ((((((dn, w), &ct), &b), &q), &d), &s) in modes.zip(shape) {
+                    let x = ct * d - b * q + kf * s;
+                    *dn = x;
+                    *w = q + x;
+                }
             }
-        } else {
-            let kf = k * fe;
-            for ((((((dn, w), &ct), &b), &q), &d), &s) in modes.zip(&self.strike_shape) {
-                let x = ct * d - b * q + kf * s;
-                *dn = x;
-                *w = q + x;
-            }
-        }
+        });
         // 2. Free grid displacement u_free = S (q + Δ_free): at the needed nodes from the
         //    stored rows, or on the whole grid by one DST.
         match (&mut self.rows, rows_path) {
@@ -117,14 +126,9 @@ impl StiffString {
         //    the stored rows for a few active nodes (obstacle node n is row n), or one DST.
         if active > 0 {
             self.stats.contact_steps += 1;
-            match &self.rows {
+            match &mut self.rows {
                 Some(rows) if active <= ROW_ACTIVE_LIMIT => {
-                    let a = k * self.params.dx();
-                    for (n, &f) in self.contact_f.iter().enumerate() {
-                        if f != 0.0 {
-                            rows.add_row(n, a * f, &mut self.dq_next);
-                        }
-                    }
+                    rows.add_rows(k * self.params.dx(), &self.contact_f, &mut self.dq_next);
                 }
                 _ => {
                     self.force_buf.fill(0.0);
@@ -147,11 +151,20 @@ impl StiffString {
             self.work += 0.5 * fe * w;
         }
         // 6. Dissipation h·2μs(δ_t.q)², rotation and flush in one pass.
-        let d = if self.lossy {
-            finish::<true>(&mut self.q, &mut self.dq_next, &self.dq, &self.w_diss)
-        } else {
-            finish::<false>(&mut self.q, &mut self.dq_next, &self.dq, &self.w_diss)
-        };
+        let (q, dn, dq, wd, lossy) = (
+            &mut self.q,
+            &mut self.dq_next,
+            &self.dq,
+            &self.w_diss,
+            self.lossy,
+        );
+        let d = self.arch.dispatch(|| {
+            if lossy {
+                finish::<true>(q, dn, dq, wd)
+            } else {
+                finish::<false>(q, dn, dq, wd)
+            }
+        });
         self.dissipated += d;
         std::mem::swap(&mut self.dq, &mut self.dq_next);
         std::mem::swap(&mut self.u_prev, &mut self.u_now);
@@ -186,6 +199,7 @@ fn finish_one<const LOSSY: bool>(q: &mut f64, dn: &mut f64, d: f64, wd: f64) -> 
 /// Steps 5-6 of [`StiffString::step`] over all modes, in four interleaved lanes (the
 /// dissipation sum in four partial sums, so the loop vectorises without reassociation).
 /// Returns the energy dissipated in the step (J).
+#[inline(always)]
 fn finish<const LOSSY: bool>(q: &mut [f64], dn: &mut [f64], d: &[f64], wd: &[f64]) -> f64 {
     let n4 = q.len() - q.len() % 4;
     let (q4, q1) = q.split_at_mut(n4);
