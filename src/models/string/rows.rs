@@ -170,18 +170,20 @@ impl NodeRows {
                 } else {
                     &mut self.diff
                 };
-                axpy(self.arch, c, a * ft, row);
+                self.arch.dispatch(Axpy {
+                    y: c,
+                    a: a * ft,
+                    x: row,
+                });
             }
         }
         let (lower, upper) = acc.split_at_mut(h);
-        let (sum, diff) = (&self.sum, &self.diff);
-        self.arch.dispatch(|| {
-            for ((d, s), e) in lower.iter_mut().zip(sum).zip(diff) {
-                *d += s + e;
-            }
-            for ((d, s), e) in upper.iter_mut().rev().zip(&sum[..p]).zip(&diff[..p]) {
-                *d += s - e;
-            }
+        debug_assert_eq!(upper.len(), p);
+        self.arch.dispatch(Unfold {
+            lower,
+            upper,
+            sum: &self.sum,
+            diff: &self.diff,
         });
     }
 
@@ -205,13 +207,52 @@ impl NodeRows {
 }
 
 /// `y += a x` (same lengths), vectorised at the detected SIMD width.
-#[inline(always)]
-fn axpy(arch: Arch, y: &mut [f64], a: f64, x: &[f64]) {
-    arch.dispatch(|| {
-        for (y, x) in y.iter_mut().zip(x) {
-            *y += a * x;
+struct Axpy<'a> {
+    /// Accumulated in place.
+    y: &'a mut [f64],
+    /// Scale.
+    a: f64,
+    /// Added vector.
+    x: &'a [f64],
+}
+
+impl WithSimd for Axpy<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        for (y, x) in self.y.iter_mut().zip(self.x) {
+            *y += self.a * x;
         }
-    });
+    }
+}
+
+/// The final pass of [`NodeRows::add_rows`]: `lower_j += s_j + e_j`, `upper_{N-j} += s_j - e_j`.
+struct Unfold<'a> {
+    /// `acc_j`, `j = 1..H`.
+    lower: &'a mut [f64],
+    /// `acc_j`, `j = H+1..N-1` (as many as there are pairs).
+    upper: &'a mut [f64],
+    /// Sum of the odd-node rows.
+    sum: &'a [f64],
+    /// Sum of the even-node rows.
+    diff: &'a [f64],
+}
+
+impl WithSimd for Unfold<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        for ((d, s), e) in self.lower.iter_mut().zip(self.sum).zip(self.diff) {
+            *d += s + e;
+        }
+        let p = self.upper.len();
+        let upper = self.upper.iter_mut().rev();
+        for ((d, s), e) in upper.zip(&self.sum[..p]).zip(&self.diff[..p]) {
+            *d += s - e;
+        }
+    }
 }
 
 /// `R` dot products `⟨r_k, w⟩` in one pass over `w`, each in two interleaved SIMD partial sums

@@ -10,6 +10,7 @@ use crate::models::string::output::ResolvedOutput;
 use crate::models::string::params::StringParams;
 use crate::models::string::rows::NodeRows;
 use crate::models::FLUSH_TO_ZERO_BELOW;
+use pulp::{Simd, WithSimd};
 
 impl StiffString {
     /// The stored rows (obstacle nodes first, in order, then the other nodes grid pickups read)
@@ -82,36 +83,15 @@ impl StiffString {
         } else {
             &mut self.u_next
         };
-        let (dn, ct, beta, q, dq, shape) = (
-            &mut self.dq_next,
-            &self.c_tilde,
-            &self.beta,
-            &self.q,
-            &self.dq,
-            &self.strike_shape,
-        );
-        let kf = k * fe;
-        self.arch.dispatch(|| {
-            let modes = dn
-                .iter_mut()
-                .zip(w.iter_mut())
-                .zip(ct)
-                .zip(beta)
-                .zip(q)
-                .zip(dq);
-            if fe == 0.0 {
-                for (((((dn, w), &ct), &b), &q), &d) in modes {
-                    let x = ct * d - b * q;
-                    *dn = x;
-                    *w = q + x;
-                }
-            } else {
-                for ((((((dn, w), &ct), &b), &q), &d), &s) in modes.zip(shape) {
-                    let x = ct * d - b * q + kf * s;
-                    *dn = x;
-                    *w = q + x;
-                }
-            }
+        self.arch.dispatch(FreeUpdate {
+            dn: &mut self.dq_next,
+            w,
+            ct: &self.c_tilde,
+            beta: &self.beta,
+            q: &self.q,
+            dq: &self.dq,
+            shape: &self.strike_shape,
+            kf: k * fe,
         });
         // 2. Free grid displacement u_free = S (q + Δ_free): at the needed nodes from the
         //    stored rows, or on the whole grid by one DST.
@@ -151,25 +131,97 @@ impl StiffString {
             self.work += 0.5 * fe * w;
         }
         // 6. Dissipation h·2μs(δ_t.q)², rotation and flush in one pass.
-        let (q, dn, dq, wd, lossy) = (
-            &mut self.q,
-            &mut self.dq_next,
-            &self.dq,
-            &self.w_diss,
-            self.lossy,
-        );
-        let d = self.arch.dispatch(|| {
-            if lossy {
-                finish::<true>(q, dn, dq, wd)
-            } else {
-                finish::<false>(q, dn, dq, wd)
-            }
+        let d = self.arch.dispatch(Finish {
+            q: &mut self.q,
+            dn: &mut self.dq_next,
+            d: &self.dq,
+            wd: &self.w_diss,
+            lossy: self.lossy,
         });
         self.dissipated += d;
         std::mem::swap(&mut self.dq, &mut self.dq_next);
         std::mem::swap(&mut self.u_prev, &mut self.u_now);
         std::mem::swap(&mut self.u_now, &mut self.u_next);
         self.steps += 1;
+    }
+}
+
+/// Step 1's loop: `Δ_free = c̃ Δ - β q + k f_e φ(x_e)` and `w = q + Δ_free` (the strike term
+/// only when `kf ≠ 0`), compiled at the detected SIMD width.
+struct FreeUpdate<'a> {
+    /// `Δ_free` (written).
+    dn: &'a mut [f64],
+    /// `q + Δ_free` (written).
+    w: &'a mut [f64],
+    /// `c̃_j`.
+    ct: &'a [f64],
+    /// `β_j`.
+    beta: &'a [f64],
+    /// The current `q`.
+    q: &'a [f64],
+    /// The current `Δ`.
+    dq: &'a [f64],
+    /// Strike shape `φ_j(x_e)`.
+    shape: &'a [f64],
+    /// `k f_e` (0 without strike).
+    kf: f64,
+}
+
+impl WithSimd for FreeUpdate<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        let kf = self.kf;
+        let modes = self
+            .dn
+            .iter_mut()
+            .zip(self.w.iter_mut())
+            .zip(self.ct)
+            .zip(self.beta)
+            .zip(self.q)
+            .zip(self.dq);
+        if kf == 0.0 {
+            for (((((dn, w), &ct), &b), &q), &d) in modes {
+                let x = ct * d - b * q;
+                *dn = x;
+                *w = q + x;
+            }
+        } else {
+            for ((((((dn, w), &ct), &b), &q), &d), &s) in modes.zip(self.shape) {
+                let x = ct * d - b * q + kf * s;
+                *dn = x;
+                *w = q + x;
+            }
+        }
+    }
+}
+
+/// Step 6's loop ([`finish`]) compiled at the detected SIMD width; returns the dissipated
+/// energy of the step (J).
+struct Finish<'a> {
+    /// `q` (rotated in place).
+    q: &'a mut [f64],
+    /// `Δ^{n+1}` (flushed in place).
+    dn: &'a mut [f64],
+    /// `Δ^n`.
+    d: &'a [f64],
+    /// Dissipation weights.
+    wd: &'a [f64],
+    /// Whether any mode is damped.
+    lossy: bool,
+}
+
+impl WithSimd for Finish<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) -> f64 {
+        if self.lossy {
+            finish::<S, true>(simd, self.q, self.dn, self.d, self.wd)
+        } else {
+            finish::<S, false>(simd, self.q, self.dn, self.d, self.wd)
+        }
     }
 }
 
@@ -196,27 +248,40 @@ fn finish_one<const LOSSY: bool>(q: &mut f64, dn: &mut f64, d: f64, wd: f64) -> 
     diss
 }
 
-/// Steps 5-6 of [`StiffString::step`] over all modes, in four interleaved lanes (the
-/// dissipation sum in four partial sums, so the loop vectorises without reassociation).
+/// Step 6 of [`StiffString::step`] over all modes in explicit SIMD lanes (the dissipation
+/// in one partial sum per lane, the flush as a mask select), the tail by [`finish_one`].
 /// Returns the energy dissipated in the step (J).
 #[inline(always)]
-fn finish<const LOSSY: bool>(q: &mut [f64], dn: &mut [f64], d: &[f64], wd: &[f64]) -> f64 {
-    let n4 = q.len() - q.len() % 4;
-    let (q4, q1) = q.split_at_mut(n4);
-    let (dn4, dn1) = dn.split_at_mut(n4);
-    let mut acc = [0.0f64; 4];
-    let lanes = q4
-        .chunks_exact_mut(4)
-        .zip(dn4.chunks_exact_mut(4))
-        .zip(d[..n4].chunks_exact(4))
-        .zip(wd[..n4].chunks_exact(4));
-    for (((qc, nc), dc), wc) in lanes {
-        for l in 0..4 {
-            acc[l] += finish_one::<LOSSY>(&mut qc[l], &mut nc[l], dc[l], wc[l]);
+fn finish<S: Simd, const LOSSY: bool>(
+    simd: S,
+    q: &mut [f64],
+    dn: &mut [f64],
+    d: &[f64],
+    wd: &[f64],
+) -> f64 {
+    let (qh, qt) = S::as_mut_simd_f64s(q);
+    let (nh, nt) = S::as_mut_simd_f64s(dn);
+    let (dh, dt) = S::as_simd_f64s(d);
+    let (wh, wt) = S::as_simd_f64s(wd);
+    let t = simd.splat_f64s(FLUSH_TO_ZERO_BELOW);
+    let zero = simd.splat_f64s(0.0);
+    let mut acc = zero;
+    for (((q, n), &d), &w) in qh.iter_mut().zip(nh.iter_mut()).zip(dh).zip(wh) {
+        let x = *n;
+        if LOSSY {
+            let v = simd.add_f64s(x, d);
+            acc = simd.mul_add_e_f64s(simd.mul_f64s(w, v), v, acc);
         }
+        let qn = simd.add_f64s(*q, x);
+        let small_q = simd.less_than_f64s(simd.abs_f64s(qn), t);
+        let small_x = simd.less_than_f64s(simd.abs_f64s(x), t);
+        let flush = simd.and_m64s(small_q, small_x);
+        *q = simd.select_f64s(flush, zero, qn);
+        *n = simd.select_f64s(flush, zero, x);
     }
-    for (((qv, nv), &dv), &wv) in q1.iter_mut().zip(dn1).zip(&d[n4..]).zip(&wd[n4..]) {
-        acc[0] += finish_one::<LOSSY>(qv, nv, dv, wv);
+    let mut sum = simd.reduce_sum_f64s(acc);
+    for (((q, n), &d), &w) in qt.iter_mut().zip(nt.iter_mut()).zip(dt).zip(wt) {
+        sum += finish_one::<LOSSY>(q, n, d, w);
     }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
+    sum
 }
