@@ -13,13 +13,17 @@
 //!   384 kHz (3840 steps per iteration, × 100 for a simulated second) and 2 MHz (4000 steps,
 //!   × 500), N_m = 209 and 1007.
 //!
+//! - `string_synthesis/{rows,dst}/Nm`: the 2 MHz string with grid values from the stored rows
+//!   of `S` at the 20 bridge nodes and the pickup's two nodes (the default) or from one DST of
+//!   the whole grid per step (`GridSynthesis::Dst`), 4000 steps per iteration (× 500).
+//!
 //! Throughput is reported in simulation steps per second. Every string is plucked once before
 //! timing and keeps ringing (and touching its bridge) across iterations.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use noether::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
-    StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, GridSynthesis, Losses, Obstacle, OutputChannel, Quantity, Readout,
+    SitarBridge, StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use std::hint::black_box;
@@ -127,5 +131,35 @@ fn bench_schemes(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_2mhz, bench_8x48k, bench_schemes);
+fn bench_synthesis(c: &mut Criterion) {
+    let mut g = c.benchmark_group("string_synthesis");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(3));
+    let steps = 4000;
+    g.throughput(Throughput::Elements(steps as u64));
+    for &m in &[200, 1000] {
+        for (name, path) in [("rows", GridSynthesis::Rows), ("dst", GridSynthesis::Dst)] {
+            let mut s = string(m, 2_000_000.0);
+            assert_eq!(s.set_grid_synthesis(path), path);
+            let mut out = vec![vec![0.0; steps]; s.channels()];
+            let id = BenchmarkId::new(name, intervals(m) - 1);
+            g.bench_with_input(id, &m, |b, _| {
+                b.iter(|| {
+                    s.process(&mut out, steps);
+                    black_box(out[0][steps - 1])
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_2mhz,
+    bench_8x48k,
+    bench_schemes,
+    bench_synthesis
+);
 criterion_main!(benches);

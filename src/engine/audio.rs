@@ -595,7 +595,7 @@ impl Engine {
         self.tele_samples = 0;
         self.busy = 0.0;
         self.cpu_peak = 0.0;
-        if let Some(b) = self.bank.as_ref() {
+        if let Some(b) = self.bank.as_mut() {
             t.bank = b.id;
             t.sim_rate = b.sim_rate as f32;
             let mut loudest: Option<(usize, f64)> = None;

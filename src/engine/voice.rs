@@ -431,14 +431,14 @@ impl Voice {
 
     /// Writes the displacement snapshot (m), the lowest mode frequencies (Hz) and `|q_s|`.
     pub fn snapshot(
-        &self,
+        &mut self,
         disp: &mut [f32; SNAPSHOT_POINTS],
         freq: &mut [f32; SPECTRUM_MODES],
         amp: &mut [f32; SPECTRUM_MODES],
     ) {
         freq.fill(0.0);
         amp.fill(0.0);
-        match &self.model {
+        match &mut self.model {
             VoiceModel::Plate(pv) => {
                 let q = pv.model.q();
                 let n = q.len();

@@ -63,10 +63,21 @@ impl ContactLaw {
         Ok(())
     }
 
+    /// `x^α` for `x > 0`: `x √x` for the lecture's `α = 1.5` (a correctly rounded square root
+    /// and one product, within an ulp or two of `powf` and several times cheaper), else `powf`.
+    #[inline]
+    fn pow_alpha(&self, x: f64) -> f64 {
+        if self.exponent == 1.5 {
+            x * x.sqrt()
+        } else {
+            x.powf(self.exponent)
+        }
+    }
+
     /// Potential `ψ(η)` in J/m.
     pub fn psi(&self, eta: f64) -> f64 {
         if eta > 0.0 {
-            self.stiffness / (self.exponent + 1.0) * eta.powf(self.exponent + 1.0)
+            self.stiffness / (self.exponent + 1.0) * eta * self.pow_alpha(eta)
         } else {
             0.0
         }
@@ -75,7 +86,7 @@ impl ContactLaw {
     /// Force density `ψ'(η) = K [η]_+^α` in N/m.
     pub fn force(&self, eta: f64) -> f64 {
         if eta > 0.0 {
-            self.stiffness * eta.powf(self.exponent)
+            self.stiffness * self.pow_alpha(eta)
         } else {
             0.0
         }
@@ -84,7 +95,7 @@ impl ContactLaw {
     /// `ψ''(η) = K α [η]_+^{α-1}` in N/m².
     fn stiffness_at(&self, eta: f64) -> f64 {
         if eta > 0.0 {
-            self.stiffness * self.exponent * eta.powf(self.exponent - 1.0)
+            self.stiffness * self.exponent * self.pow_alpha(eta) / eta
         } else {
             0.0
         }
@@ -100,7 +111,16 @@ impl ContactLaw {
             let p = self.exponent + 1.0;
             let t = r / x;
             // (ψ(y) - ψ(x)) / r = K/p · x^p · expm1(p ln(1+t)) / (t x)
-            self.stiffness / p * x.powf(self.exponent) * ((p * t.ln_1p()).exp_m1() / t)
+            let ratio = if self.exponent == 1.5 {
+                // ((1+t)^{5/2} - 1)/t with s = √(1+t): s⁵ - 1 = (s - 1)(s⁴ + s³ + s² + s + 1)
+                // and s - 1 = t/(s + 1), so the ratio is (s⁴ + s³ + s² + s + 1)/(s + 1),
+                // free of cancellation for any t > -1 (5/2 at t = 0) and one square root.
+                let s = (1.0 + t).sqrt();
+                (((s + 1.0) * s + 1.0) * s * s + s + 1.0) / (s + 1.0)
+            } else {
+                (p * t.ln_1p()).exp_m1() / t
+            };
+            self.stiffness / p * self.pow_alpha(x) * ratio
         } else {
             (self.psi(y) - self.psi(x)) / r
         }
@@ -273,6 +293,34 @@ mod tests {
             assert!((d / want - 1.0).abs() < 1e-14, "r={r}: {d} vs {want}");
         }
         assert_eq!(law.divided_difference(-1e-7, 5e-8), 0.0);
+    }
+
+    /// The α = 1.5 square-root forms equal the general `powf`/`expm1`/`ln_1p` forms to a few
+    /// ulps: tolerance 1e-14 relative (each side is a handful of correctly rounded operations;
+    /// the general form's `expm1(p ln1p t)` amplifies the ulp of `ln1p` by `p = 2.5`).
+    #[test]
+    fn square_root_forms_match_the_general_law() {
+        let law = ContactLaw::lecture();
+        let (k, a, p) = (law.stiffness, law.exponent, law.exponent + 1.0);
+        for &x in &[1e-9f64, 3.7e-7, 2e-5, 1e-3] {
+            let f = k * x.powf(a);
+            assert!((law.force(x) / f - 1.0).abs() < 1e-14, "force at {x}");
+            let psi = k / p * x.powf(p);
+            assert!((law.psi(x) / psi - 1.0).abs() < 1e-14, "psi at {x}");
+            let s2 = k * a * x.powf(a - 1.0);
+            assert!(
+                (law.stiffness_at(x) / s2 - 1.0).abs() < 1e-14,
+                "stiffness at {x}"
+            );
+            for &t in &[-0.999f64, -0.5, -1e-6, 1e-9, 0.3, 1.0, 40.0, 1e6] {
+                let general = k / p * x.powf(a) * ((p * f64::ln_1p(t)).exp_m1() / t);
+                let fast = law.divided_difference(x, t * x);
+                assert!(
+                    (fast / general - 1.0).abs() < 1e-14,
+                    "x={x} t={t}: {fast} {general}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -34,9 +34,12 @@
 //! solution, which conserves a modified energy ([`contact_sav`], selected by
 //! [`StiffString::set_contact_scheme`]; Newton stays the default).
 //!
-//! One step ([`StiffString::step`]): free modal update (O(N)), one DST to the grid, the scalar
-//! solves at obstacle nodes, and, only if some force is non-zero, one DST of the nodal forces
-//! back to modal forces. Outputs read the grid or the modes ([`output`]).
+//! One step ([`StiffString::step`]): free modal update (O(N)), the grid values the step needs
+//! (obstacle nodes and grid-pickup nodes) from stored rows of `S` ([`rows`], default for at
+//! most `ROW_LIMIT` nodes) or one DST of the whole grid ([`GridSynthesis`]), the scalar solves
+//! at obstacle nodes, and, only if some force is non-zero, the modal force from the same rows
+//! (few active nodes) or one DST of the nodal forces. Outputs read the grid or the modes
+//! ([`output`]).
 //!
 //! # Energy
 //! Per mode the forced exact scheme is `μ(a δ_tt q + b q + 2s δ_t. q) = F` with `a = (1+c̃)/2`,
@@ -59,14 +62,16 @@ pub mod model;
 pub mod obstacle;
 pub mod output;
 pub mod params;
+pub mod rows;
 pub mod transform;
 
 pub use contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 pub use contact_sav::ContactScheme;
 pub use excitation::{StrikeForce, TrianglePluck};
 pub use losses::{Losses, ValetteLosses};
-pub use model::{StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};
+pub use model::{GridSynthesis, StiffString, StringConfig, ROW_ACTIVE_LIMIT, ROW_LIMIT};
 pub use obstacle::{Obstacle, SitarBridge};
 pub use output::{OutputChannel, Quantity, Readout};
 pub use params::{Stiffness, StringParams};
+pub use rows::NodeRows;
 pub use transform::ModalMap;

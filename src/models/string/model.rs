@@ -9,17 +9,37 @@ use super::losses::Losses;
 use super::obstacle::Obstacle;
 use super::output::{FieldView, OutputChannel, ResolvedOutput};
 use super::params::StringParams;
+use super::rows::NodeRows;
 use super::transform::ModalMap;
 use crate::error::ParamError;
 use crate::render::source::{ContactSummary, EnergyTerms, RenderSource, ShapeSnapshot};
 
-/// Largest number of obstacle nodes for which the rows of `S⁻¹` are stored (memory
-/// `ROW_LIMIT · N_m` values); with more nodes the modal contact force goes through a DST.
+/// Largest number of stored grid rows (obstacle nodes plus the nodes grid pickups read) for
+/// which rows of `S` are kept (memory `ROW_LIMIT · N_m` values, [`NodeRows`]): a step then
+/// computes the grid values at those nodes only ([`GridSynthesis::Rows`]) and the modal
+/// contact force of a few active nodes from the same rows. With more nodes both directions go
+/// through a DST of the whole grid.
 pub const ROW_LIMIT: usize = 64;
 
-/// Largest number of simultaneously active contact nodes for which the stored rows are used;
-/// beyond it one DST (about `8 N log₂N` flops) is cheaper than `active · N` multiply-adds.
+/// Largest number of simultaneously active contact nodes for which the stored rows give the
+/// modal force (`active · N/2 + N` multiply-adds, [`NodeRows::add_rows`]); beyond it one DST
+/// (about `8 N log₂N` flops) is used.
 pub const ROW_ACTIVE_LIMIT: usize = 8;
+
+/// How a step obtains the grid displacement it needs (obstacle nodes, grid pickups).
+///
+/// Chosen at build ([`StiffString::new`]: `Rows` when at most [`ROW_LIMIT`] nodes are needed);
+/// switchable with [`StiffString::set_grid_synthesis`]. Both give the same trajectory to
+/// round-off (`tests/string_rows.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GridSynthesis {
+    /// One DST of the whole grid every step (`O(N log N)`); every grid value is current.
+    Dst,
+    /// Dot products with stored rows of `S` at the needed nodes only (`T · N_m` multiply-adds
+    /// for `T` nodes); other grid values are computed on demand
+    /// ([`StiffString::grid_displacement`], snapshots).
+    Rows,
+}
 
 /// Everything needed to build a [`StiffString`].
 ///
@@ -56,6 +76,10 @@ pub struct StiffString {
     k: f64,
     /// Per-mode scheme coefficients.
     coeffs: Vec<ModeCoefficients>,
+    /// `c̃_j` of `coeffs`, contiguous for the vectorised free update (dimensionless).
+    c_tilde: Vec<f64>,
+    /// `β_j` of `coeffs`, contiguous for the vectorised free update (dimensionless).
+    beta: Vec<f64>,
     /// Damping `σ_j` in s⁻¹.
     sigma: Vec<f64>,
     /// Energy weight of `(Δ^{n+1})²`: `μ(1 + c̃ + c)/(8h²)` in J/m³ (modal coordinates are in
@@ -83,16 +107,26 @@ pub struct StiffString {
     u_next: Vec<f64>,
     /// Scratch: nodal contact forces transformed to modal forces.
     force_buf: Vec<f64>,
+    /// Scratch: the synthesis input `q^{n+1} + Δ_free` (m^3/2) on the rows path.
+    w_buf: Vec<f64>,
+    /// The whole grid `u^{n+1}` computed on demand on the rows path (m; control or audio
+    /// thread, [`StiffString::grid_displacement`]).
+    grid_buf: Vec<f64>,
+    /// How a step computes grid values.
+    synthesis: GridSynthesis,
+    /// SIMD level detected at build ([`pulp`]); the step's O(N) loops run at its width.
+    arch: pulp::Arch,
     /// Obstacle nodes (0-based interior index `i - 1`).
     contact_nodes: Vec<usize>,
     /// Obstacle heights `g_i` at those nodes (m).
     contact_g: Vec<f64>,
     /// Contact force densities `f_i` of the last step at those nodes (N/m).
     contact_f: Vec<f64>,
-    /// Rows of `S⁻¹` at the obstacle nodes, `rows[n·N_m + j-1] = Δx φ_j(x_i)` (m^1/2), kept
-    /// when there are at most [`ROW_LIMIT`] obstacle nodes (empty otherwise): the modal force
-    /// of a few active nodes is then a sum over those rows, cheaper than a DST.
-    rows: Vec<f64>,
+    /// Rows of `S` at the obstacle nodes (row `n` = obstacle node `n`) followed by the other
+    /// nodes grid pickups read, kept when there are at most [`ROW_LIMIT`] such nodes (empty
+    /// otherwise). They give the grid values on the [`GridSynthesis::Rows`] path, and (times
+    /// `Δx`, the row of `S⁻¹`) the modal force of a few active nodes, cheaper than a DST.
+    rows: Option<NodeRows>,
     /// Contact law.
     law: ContactLaw,
     /// Contact scheme (Newton by default; [`StiffString::set_contact_scheme`]).
@@ -146,6 +180,7 @@ impl StiffString {
             .map(|(i, o)| o.resolve(p, i))
             .collect::<Result<Vec<_>, _>>()?;
         let h2 = h * h;
+        let (rows, synthesis) = Self::stored_rows(p, &samples, &outputs);
         Ok(Self {
             params: p.clone(),
             h,
@@ -158,6 +193,8 @@ impl StiffString {
             w_diss: coeffs.iter().map(|c| mu * c.s / (2.0 * h)).collect(),
             lossy: sigma.iter().any(|&s| s > 0.0),
             sigma,
+            c_tilde: coeffs.iter().map(|c| c.c_tilde).collect(),
+            beta: coeffs.iter().map(|c| c.beta).collect(),
             coeffs,
             map: ModalMap::new(p.length, p.intervals),
             q: vec![0.0; m],
@@ -167,20 +204,14 @@ impl StiffString {
             u_prev: vec![0.0; m],
             u_next: vec![0.0; m],
             force_buf: vec![0.0; m],
+            w_buf: vec![0.0; m],
+            grid_buf: vec![0.0; m],
+            synthesis,
+            arch: pulp::Arch::new(),
             contact_nodes: samples.iter().map(|s| s.0).collect(),
             contact_g: samples.iter().map(|s| s.1).collect(),
             contact_f: vec![0.0; samples.len()],
-            rows: if samples.len() <= ROW_LIMIT {
-                samples
-                    .iter()
-                    .flat_map(|&(i, _)| {
-                        let x = (i + 1) as f64 * p.dx();
-                        (1..=m).map(move |j| p.dx() * p.mode_shape(j, x))
-                    })
-                    .collect()
-            } else {
-                Vec::new()
-            },
+            rows,
             law: config.contact,
             scheme: ContactScheme::default(),
             contact_z: vec![0.0; samples.len()],
@@ -272,97 +303,6 @@ impl StiffString {
         Ok(())
     }
 
-    /// Advances one step `n → n+1` (see the module doc for the algorithm).
-    pub fn step(&mut self) {
-        let k = self.k;
-        // 1. Free update (difference form of the exact scheme) plus the external modal force.
-        let fe = match self.strike {
-            Some(s) => {
-                let f = s.force(self.strike_time);
-                self.strike_time += self.h;
-                if self.strike_time > s.duration {
-                    self.strike = None;
-                }
-                f
-            }
-            None => 0.0,
-        };
-        for j in 0..self.q.len() {
-            let c = &self.coeffs[j];
-            self.dq_next[j] = c.c_tilde * self.dq[j] - c.beta * self.q[j];
-        }
-        if fe != 0.0 {
-            for (d, s) in self.dq_next.iter_mut().zip(&self.strike_shape) {
-                *d += k * fe * s;
-            }
-        }
-        // 2. Free grid displacement u_free = S (q + Δ_free).
-        for ((u, q), d) in self.u_next.iter_mut().zip(&self.q).zip(&self.dq_next) {
-            *u = q + d;
-        }
-        self.map.synthesis(&mut self.u_next);
-        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i (Newton or quadratised).
-        let (total, active) = self.solve_contacts();
-        self.obstacle_force = total * self.params.dx();
-        // 4. Modal correction Δ += k S⁻¹ f, only when some force acted: a sum over the stored
-        //    rows of S⁻¹ for a few active nodes, or one DST otherwise.
-        if active > 0 {
-            self.stats.contact_steps += 1;
-            let m = self.q.len();
-            if self.rows.is_empty() || active > ROW_ACTIVE_LIMIT {
-                self.force_buf.fill(0.0);
-                for (n, &i) in self.contact_nodes.iter().enumerate() {
-                    self.force_buf[i] = self.contact_f[n];
-                }
-                self.map.analysis(&mut self.force_buf);
-                for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
-                    *d += k * f;
-                }
-            } else {
-                for (n, &f) in self.contact_f.iter().enumerate() {
-                    if f != 0.0 {
-                        let row = &self.rows[n * m..(n + 1) * m];
-                        for (d, r) in self.dq_next.iter_mut().zip(row) {
-                            *d += k * f * r;
-                        }
-                    }
-                }
-            }
-        }
-        // 5. Energy accounts: h·2μs(δ_t.q)² and h·F δ_t.q with δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
-        if self.lossy {
-            let mut d = 0.0;
-            for j in 0..self.q.len() {
-                let v = self.dq_next[j] + self.dq[j];
-                d += self.w_diss[j] * v * v;
-            }
-            self.dissipated += d;
-        }
-        if fe != 0.0 {
-            let mut w = 0.0;
-            for j in 0..self.q.len() {
-                w += self.strike_shape[j] * (self.dq_next[j] + self.dq[j]);
-            }
-            self.work += 0.5 * fe * w;
-        }
-        // 6. Rotate; decayed modes go to exactly zero instead of through the subnormal range
-        //    (see `FLUSH_TO_ZERO_BELOW`; the grid values are sums of these, so they follow).
-        //    A mode is flushed only when both q and Δ are tiny: flushing Δ alone would freeze a
-        //    slowly decaying q, flushing q alone would leave Δ decaying into subnormals.
-        for (q, d) in self.q.iter_mut().zip(self.dq_next.iter_mut()) {
-            *q += *d;
-            let t = crate::models::FLUSH_TO_ZERO_BELOW;
-            if q.abs() < t && d.abs() < t {
-                *q = 0.0;
-                *d = 0.0;
-            }
-        }
-        std::mem::swap(&mut self.dq, &mut self.dq_next);
-        std::mem::swap(&mut self.u_prev, &mut self.u_now);
-        std::mem::swap(&mut self.u_now, &mut self.u_next);
-        self.steps += 1;
-    }
-
     /// The discrete energy terms at the current state `(n+1, n)` (O(N), no allocation):
     /// kinetic `Σ μ(1+c̃+c)/(8h²) (Δ^{n+1})²`, linear `Σ μβ/(8h²) (q^{n+1}+q^n)²`, nonlinear
     /// (contact) `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2` (Newton scheme) or `Δx Σ_i z_i²/2`
@@ -429,8 +369,19 @@ impl StiffString {
     }
 
     /// Grid displacement `u^{n+1}` at nodes `1..N-1` (m).
-    pub fn grid_displacement(&self) -> &[f64] {
-        &self.u_now
+    ///
+    /// On the [`GridSynthesis::Rows`] path a step only updates the nodes it needs, so this runs
+    /// one DST of `q^{n+1}` into a model-owned buffer (O(N log N), no allocation, does not touch
+    /// the state); on the DST path it is the step's own grid.
+    pub fn grid_displacement(&mut self) -> &[f64] {
+        match self.synthesis {
+            GridSynthesis::Dst => &self.u_now,
+            GridSynthesis::Rows => {
+                self.grid_buf.copy_from_slice(&self.q);
+                self.map.synthesis(&mut self.grid_buf);
+                &self.grid_buf
+            }
+        }
     }
 
     /// Contact solver counters.
@@ -539,7 +490,10 @@ impl RenderSource for StiffString {
         let x = (0..=m + 1).map(|i| i as f64 * dx).collect();
         let mut u = Vec::with_capacity(m + 2);
         u.push(0.0);
-        u.extend_from_slice(&self.u_now);
+        match self.synthesis {
+            GridSynthesis::Dst => u.extend_from_slice(&self.u_now),
+            GridSynthesis::Rows => u.extend(self.map.synthesized(&self.q)),
+        }
         u.push(0.0);
         let obstacle = self
             .contact_nodes
@@ -590,3 +544,4 @@ impl RenderSource for StiffString {
 
 mod contact_step;
 mod retune;
+mod step;

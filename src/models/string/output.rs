@@ -124,6 +124,19 @@ impl OutputChannel {
 }
 
 impl ResolvedOutput {
+    /// Interior indices (`i - 1`) of the grid nodes this channel reads (none for modal sums and
+    /// the obstacle force; the boundary nodes `0` and `N` are always zero and never listed).
+    pub fn grid_nodes(&self, intervals: usize) -> impl Iterator<Item = usize> {
+        let left = match self {
+            ResolvedOutput::Grid { left, .. } => Some(*left),
+            _ => None,
+        };
+        left.into_iter()
+            .flat_map(|l| [l, l + 1])
+            .filter(move |&i| i >= 1 && i < intervals)
+            .map(|i| i - 1)
+    }
+
     /// The channel's value for the current state.
     pub fn read(&self, v: &FieldView<'_>) -> f64 {
         let node = |a: &[f64], i: usize| if i == 0 || i > a.len() { 0.0 } else { a[i - 1] };

@@ -87,6 +87,17 @@ impl ModalMap {
         buf.iter_mut().for_each(|x| *x *= k);
     }
 
+    /// `S q` into a new vector, with its own scratch (allocates; for snapshots and views off
+    /// the hot path, where the map's scratch is not available through `&self`).
+    pub fn synthesized(&self, q: &[f64]) -> Vec<f64> {
+        let mut buf = q.to_vec();
+        let mut scratch = vec![0.0; self.dst.get_scratch_len()];
+        self.dst.process_dst1_with_scratch(&mut buf, &mut scratch);
+        let k = self.norm;
+        buf.iter_mut().for_each(|x| *x *= k);
+        buf
+    }
+
     /// In place: `buf ← S⁻¹ buf = Δx S buf` (grid values → modal coordinates).
     pub fn analysis(&mut self, buf: &mut [f64]) {
         self.dst(buf);

@@ -63,6 +63,8 @@ impl StiffString {
             self.w_kin[j] = mu * (2.0 + 2.0 * c.c_tilde - c.beta) / (8.0 * h2);
             self.w_pot[j] = mu * c.beta / (8.0 * h2);
             self.w_diss[j] = mu * c.s / (2.0 * h);
+            self.c_tilde[j] = c.c_tilde;
+            self.beta[j] = c.beta;
             self.coeffs[j] = c;
         }
         self.lossy = lossy;

@@ -1,0 +1,287 @@
+//! The time step of [`StiffString`] and the choice of how it computes grid values
+//! ([`GridSynthesis`]); the algorithm is in the module doc of [`crate::models::string`].
+//!
+//! The O(N) modal work is done in two fused passes: the free update also writes the synthesis
+//! input `q + Δ_free`, and one pass after the contact solve accumulates the dissipated energy,
+//! rotates `q ← q + Δ` and flushes decayed modes to zero (branch-free, four lanes).
+
+use super::{GridSynthesis, StiffString, ROW_ACTIVE_LIMIT, ROW_LIMIT};
+use crate::models::string::output::ResolvedOutput;
+use crate::models::string::params::StringParams;
+use crate::models::string::rows::NodeRows;
+use crate::models::FLUSH_TO_ZERO_BELOW;
+use pulp::{Simd, WithSimd};
+
+impl StiffString {
+    /// The stored rows (obstacle nodes first, in order, then the other nodes grid pickups read)
+    /// and the default synthesis path: rows when at most [`ROW_LIMIT`] nodes are needed.
+    pub(super) fn stored_rows(
+        p: &StringParams,
+        samples: &[(usize, f64)],
+        outputs: &[ResolvedOutput],
+    ) -> (Option<NodeRows>, GridSynthesis) {
+        let mut nodes: Vec<usize> = samples.iter().map(|s| s.0).collect();
+        for i in outputs.iter().flat_map(|o| o.grid_nodes(p.intervals)) {
+            if !nodes.contains(&i) {
+                nodes.push(i);
+            }
+        }
+        if nodes.len() <= ROW_LIMIT {
+            let rows = NodeRows::new(p.length, p.intervals, nodes);
+            (Some(rows), GridSynthesis::Rows)
+        } else {
+            (None, GridSynthesis::Dst)
+        }
+    }
+
+    /// Selects how a step computes grid values and returns the path in use: `Rows` needs the
+    /// stored rows (at most [`ROW_LIMIT`] needed nodes), otherwise the model stays on `Dst`.
+    /// Switching to `Dst` recomputes the whole grid `u^{n+1} = S q^{n+1}`,
+    /// `u^n = S(q^{n+1} - Δ^{n+1})` (one round-off-level change at the needed nodes). O(N log N),
+    /// no allocation.
+    pub fn set_grid_synthesis(&mut self, path: GridSynthesis) -> GridSynthesis {
+        let path = match (path, &self.rows) {
+            (GridSynthesis::Rows, None) => GridSynthesis::Dst,
+            (p, _) => p,
+        };
+        if path == GridSynthesis::Dst && self.synthesis == GridSynthesis::Rows {
+            self.u_now.copy_from_slice(&self.q);
+            self.map.synthesis(&mut self.u_now);
+            for ((u, q), d) in self.u_prev.iter_mut().zip(&self.q).zip(&self.dq) {
+                *u = q - d;
+            }
+            self.map.synthesis(&mut self.u_prev);
+        }
+        self.synthesis = path;
+        path
+    }
+
+    /// How a step computes grid values.
+    pub fn grid_synthesis(&self) -> GridSynthesis {
+        self.synthesis
+    }
+
+    /// Advances one step `n → n+1` (see the module doc for the algorithm).
+    pub fn step(&mut self) {
+        let k = self.k;
+        // 1. Free update (difference form of the exact scheme) plus the external modal force,
+        //    fused with the synthesis input w = q + Δ_free.
+        let fe = match self.strike {
+            Some(s) => {
+                let f = s.force(self.strike_time);
+                self.strike_time += self.h;
+                if self.strike_time > s.duration {
+                    self.strike = None;
+                }
+                f
+            }
+            None => 0.0,
+        };
+        let rows_path = self.synthesis == GridSynthesis::Rows;
+        let w = if rows_path {
+            &mut self.w_buf
+        } else {
+            &mut self.u_next
+        };
+        self.arch.dispatch(FreeUpdate {
+            dn: &mut self.dq_next,
+            w,
+            ct: &self.c_tilde,
+            beta: &self.beta,
+            q: &self.q,
+            dq: &self.dq,
+            shape: &self.strike_shape,
+            kf: k * fe,
+        });
+        // 2. Free grid displacement u_free = S (q + Δ_free): at the needed nodes from the
+        //    stored rows, or on the whole grid by one DST.
+        match (&mut self.rows, rows_path) {
+            (Some(rows), true) => rows.synthesize(&self.w_buf, &mut self.u_next),
+            _ => self.map.synthesis(&mut self.u_next),
+        }
+        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i (Newton or quadratised).
+        let (total, active) = self.solve_contacts();
+        self.obstacle_force = total * self.params.dx();
+        // 4. Modal correction Δ += k S⁻¹ f = k Δx S f, only when some force acted: a sum over
+        //    the stored rows for a few active nodes (obstacle node n is row n), or one DST.
+        if active > 0 {
+            self.stats.contact_steps += 1;
+            match &mut self.rows {
+                Some(rows) if active <= ROW_ACTIVE_LIMIT => {
+                    rows.add_rows(k * self.params.dx(), &self.contact_f, &mut self.dq_next);
+                }
+                _ => {
+                    self.force_buf.fill(0.0);
+                    for (n, &i) in self.contact_nodes.iter().enumerate() {
+                        self.force_buf[i] = self.contact_f[n];
+                    }
+                    self.map.analysis(&mut self.force_buf);
+                    for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
+                        *d += k * f;
+                    }
+                }
+            }
+        }
+        // 5. Work of the external force h·F δ_t.q, δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
+        if fe != 0.0 {
+            let mut w = 0.0;
+            for ((s, dn), d) in self.strike_shape.iter().zip(&self.dq_next).zip(&self.dq) {
+                w += s * (dn + d);
+            }
+            self.work += 0.5 * fe * w;
+        }
+        // 6. Dissipation h·2μs(δ_t.q)², rotation and flush in one pass.
+        let d = self.arch.dispatch(Finish {
+            q: &mut self.q,
+            dn: &mut self.dq_next,
+            d: &self.dq,
+            wd: &self.w_diss,
+            lossy: self.lossy,
+        });
+        self.dissipated += d;
+        std::mem::swap(&mut self.dq, &mut self.dq_next);
+        std::mem::swap(&mut self.u_prev, &mut self.u_now);
+        std::mem::swap(&mut self.u_now, &mut self.u_next);
+        self.steps += 1;
+    }
+}
+
+/// Step 1's loop: `Δ_free = c̃ Δ - β q + k f_e φ(x_e)` and `w = q + Δ_free` (the strike term
+/// only when `kf ≠ 0`), compiled at the detected SIMD width.
+struct FreeUpdate<'a> {
+    /// `Δ_free` (written).
+    dn: &'a mut [f64],
+    /// `q + Δ_free` (written).
+    w: &'a mut [f64],
+    /// `c̃_j`.
+    ct: &'a [f64],
+    /// `β_j`.
+    beta: &'a [f64],
+    /// The current `q`.
+    q: &'a [f64],
+    /// The current `Δ`.
+    dq: &'a [f64],
+    /// Strike shape `φ_j(x_e)`.
+    shape: &'a [f64],
+    /// `k f_e` (0 without strike).
+    kf: f64,
+}
+
+impl WithSimd for FreeUpdate<'_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, _simd: S) {
+        let kf = self.kf;
+        let modes = self
+            .dn
+            .iter_mut()
+            .zip(self.w.iter_mut())
+            .zip(self.ct)
+            .zip(self.beta)
+            .zip(self.q)
+            .zip(self.dq);
+        if kf == 0.0 {
+            for (((((dn, w), &ct), &b), &q), &d) in modes {
+                let x = ct * d - b * q;
+                *dn = x;
+                *w = q + x;
+            }
+        } else {
+            for ((((((dn, w), &ct), &b), &q), &d), &s) in modes.zip(self.shape) {
+                let x = ct * d - b * q + kf * s;
+                *dn = x;
+                *w = q + x;
+            }
+        }
+    }
+}
+
+/// Step 6's loop ([`finish`]) compiled at the detected SIMD width; returns the dissipated
+/// energy of the step (J).
+struct Finish<'a> {
+    /// `q` (rotated in place).
+    q: &'a mut [f64],
+    /// `Δ^{n+1}` (flushed in place).
+    dn: &'a mut [f64],
+    /// `Δ^n`.
+    d: &'a [f64],
+    /// Dissipation weights.
+    wd: &'a [f64],
+    /// Whether any mode is damped.
+    lossy: bool,
+}
+
+impl WithSimd for Finish<'_> {
+    type Output = f64;
+
+    #[inline(always)]
+    fn with_simd<S: Simd>(self, simd: S) -> f64 {
+        if self.lossy {
+            finish::<S, true>(simd, self.q, self.dn, self.d, self.wd)
+        } else {
+            finish::<S, false>(simd, self.q, self.dn, self.d, self.wd)
+        }
+    }
+}
+
+/// One mode of [`finish`]: returns the dissipation term `w_d (Δ^{n+1} + Δ^n)²` (0 unless
+/// `LOSSY`) and rotates `q ← q + Δ^{n+1}`. Decayed modes go to exactly zero instead of through
+/// the subnormal range (see `FLUSH_TO_ZERO_BELOW`; grid values are sums of these, so they
+/// follow); a mode is flushed only when both the new `q` and `Δ` are tiny (flushing `Δ` alone
+/// would freeze a slowly decaying `q`, flushing `q` alone would leave `Δ` decaying into
+/// subnormals). Branch-free, and a NaN is never flushed (the comparisons are false).
+#[inline(always)]
+fn finish_one<const LOSSY: bool>(q: &mut f64, dn: &mut f64, d: f64, wd: f64) -> f64 {
+    let x = *dn;
+    let diss = if LOSSY {
+        let v = x + d;
+        wd * v * v
+    } else {
+        0.0
+    };
+    let qn = *q + x;
+    let t = FLUSH_TO_ZERO_BELOW;
+    let flush = (qn.abs() < t) & (x.abs() < t);
+    *q = if flush { 0.0 } else { qn };
+    *dn = if flush { 0.0 } else { x };
+    diss
+}
+
+/// Step 6 of [`StiffString::step`] over all modes in explicit SIMD lanes (the dissipation
+/// in one partial sum per lane, the flush as a mask select), the tail by [`finish_one`].
+/// Returns the energy dissipated in the step (J).
+#[inline(always)]
+fn finish<S: Simd, const LOSSY: bool>(
+    simd: S,
+    q: &mut [f64],
+    dn: &mut [f64],
+    d: &[f64],
+    wd: &[f64],
+) -> f64 {
+    let (qh, qt) = S::as_mut_simd_f64s(q);
+    let (nh, nt) = S::as_mut_simd_f64s(dn);
+    let (dh, dt) = S::as_simd_f64s(d);
+    let (wh, wt) = S::as_simd_f64s(wd);
+    let t = simd.splat_f64s(FLUSH_TO_ZERO_BELOW);
+    let zero = simd.splat_f64s(0.0);
+    let mut acc = zero;
+    for (((q, n), &d), &w) in qh.iter_mut().zip(nh.iter_mut()).zip(dh).zip(wh) {
+        let x = *n;
+        if LOSSY {
+            let v = simd.add_f64s(x, d);
+            acc = simd.mul_add_e_f64s(simd.mul_f64s(w, v), v, acc);
+        }
+        let qn = simd.add_f64s(*q, x);
+        let small_q = simd.less_than_f64s(simd.abs_f64s(qn), t);
+        let small_x = simd.less_than_f64s(simd.abs_f64s(x), t);
+        let flush = simd.and_m64s(small_q, small_x);
+        *q = simd.select_f64s(flush, zero, qn);
+        *n = simd.select_f64s(flush, zero, x);
+    }
+    let mut sum = simd.reduce_sum_f64s(acc);
+    for (((q, n), &d), &w) in qt.iter_mut().zip(nt.iter_mut()).zip(dt).zip(wt) {
+        sum += finish_one::<LOSSY>(q, n, d, w);
+    }
+    sum
+}
