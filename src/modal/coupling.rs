@@ -179,7 +179,8 @@ impl CouplingTensor {
     /// `out[l] = Σ_{i,j} H^l_{ij} q_a[i] q_b[j]` for every `l` (the full double sum, evaluated
     /// from the `j ≤ i` half as `H (q_a[i] q_b[j] + q_a[j] q_b[i])` off the diagonal). Slices:
     /// `q_a`, `q_b` of length `N_Φ`, `out` of length `N_Ψ` (overwritten). Allocation-free,
-    /// audio thread. Panics on wrong lengths (a programming error).
+    /// audio thread. Panics on wrong lengths (a programming error). Run layout: the reference
+    /// of [`Self::contract_eta_with_scratch`], which the plate schemes use.
     pub fn contract_eta(&self, q_a: &[f64], q_b: &[f64], out: &mut [f64]) {
         assert_eq!(q_a.len(), self.n_phi, "contract_eta: q_a length");
         assert_eq!(q_b.len(), self.n_phi, "contract_eta: q_b length");
@@ -193,6 +194,7 @@ impl CouplingTensor {
     /// (uses `E^s_{k,l} = H^l_{s,k}`, valid for in-plane modes with `Ψ = ∂Ψ/∂n = 0` on the
     /// edge; see the module docs). Slices: `q` of length `N_Φ`, `eta` of length `N_Ψ`, `out` of
     /// length `N_Φ` (overwritten). Allocation-free, audio thread. Panics on wrong lengths.
+    /// Run layout: the reference of [`Self::apply_force_with_scratch`].
     pub fn apply_force(&self, q: &[f64], eta: &[f64], out: &mut [f64]) {
         assert_eq!(q.len(), self.n_phi, "apply_force: q length");
         assert_eq!(eta.len(), self.n_psi, "apply_force: eta length");
@@ -209,7 +211,7 @@ impl CouplingTensor {
 impl CouplingTensor {
     /// `g[s * N_Ψ + l] = Σ_k H^l_{s,k} q_k` (row-major `N_Φ × N_Ψ`, overwritten): the coupling
     /// matrix of the linearly implicit plate schemes. Allocation-free, audio thread. Panics on
-    /// wrong lengths.
+    /// wrong lengths. Run layout: the reference of [`Self::coupling_matrix_with_scratch`].
     pub fn coupling_matrix(&self, q: &[f64], g: &mut [f64]) {
         assert_eq!(q.len(), self.n_phi, "coupling_matrix: q length");
         assert_eq!(
@@ -276,6 +278,71 @@ impl CouplingTensor {
         assert_eq!(w.len(), self.n_psi, "quartic_gradient: w length");
         assert_eq!(eta.len(), self.n_psi, "quartic_gradient: eta length");
         self.runs.quartic_gradient(q, w, eta, grad, scratch);
+    }
+
+    /// Scratch length of the block kernels [`Self::contract_eta_with_scratch`],
+    /// [`Self::apply_force_with_scratch`] and [`Self::coupling_matrix_with_scratch`]: the same
+    /// `3 N_Φ + 8` as [`Self::quartic_scratch_len`] (permuted input, `H^l q`, one more `N_Φ`
+    /// vector, zero padding). Allocate it once on the worker thread.
+    pub fn kernel_scratch_len(&self) -> usize {
+        self.quartic_scratch_len()
+    }
+
+    /// [`Self::contract_eta`] streamed from the dense selection-rule blocks (same result up to
+    /// summation order); `scratch` of length at least [`Self::kernel_scratch_len`].
+    /// Allocation-free, audio thread. Panics on wrong lengths.
+    pub fn contract_eta_with_scratch(
+        &self,
+        q_a: &[f64],
+        q_b: &[f64],
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        assert_eq!(q_a.len(), self.n_phi, "contract_eta: q_a length");
+        assert_eq!(q_b.len(), self.n_phi, "contract_eta: q_b length");
+        assert_eq!(out.len(), self.n_psi, "contract_eta: out length");
+        assert!(
+            scratch.len() >= self.kernel_scratch_len(),
+            "contract_eta: scratch"
+        );
+        self.blocks.contract_eta(q_a, q_b, out, scratch);
+    }
+
+    /// [`Self::apply_force`] streamed from the dense selection-rule blocks; `scratch` of
+    /// length at least [`Self::kernel_scratch_len`]. Allocation-free, audio thread. Panics on
+    /// wrong lengths.
+    pub fn apply_force_with_scratch(
+        &self,
+        q: &[f64],
+        eta: &[f64],
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        assert_eq!(q.len(), self.n_phi, "apply_force: q length");
+        assert_eq!(eta.len(), self.n_psi, "apply_force: eta length");
+        assert_eq!(out.len(), self.n_phi, "apply_force: out length");
+        assert!(
+            scratch.len() >= self.kernel_scratch_len(),
+            "apply_force: scratch"
+        );
+        self.blocks.apply_force(q, eta, out, scratch);
+    }
+
+    /// [`Self::coupling_matrix`] streamed from the dense selection-rule blocks; `scratch` of
+    /// length at least [`Self::kernel_scratch_len`]. Allocation-free, audio thread. Panics on
+    /// wrong lengths.
+    pub fn coupling_matrix_with_scratch(&self, q: &[f64], g: &mut [f64], scratch: &mut [f64]) {
+        assert_eq!(q.len(), self.n_phi, "coupling_matrix: q length");
+        assert_eq!(
+            g.len(),
+            self.n_phi * self.n_psi,
+            "coupling_matrix: g length"
+        );
+        assert!(
+            scratch.len() >= self.kernel_scratch_len(),
+            "coupling_matrix: scratch"
+        );
+        self.blocks.coupling_matrix(q, g, scratch);
     }
 
     /// Layout statistics of the block kernel: `(classes, dense blocks, stored dense values

@@ -34,7 +34,10 @@
 //! of `M`, four independent accumulators, `chunks_exact(4)`); a diagonal block `v_A += M q_A`.
 //! `q` is permuted in and the gradient out once per call (`O(N_Φ)`).
 //!
-//! Threads: built on a worker thread with the tensor; the kernel runs on the audio thread
+//! The same row product `v = H^l q` serves the kernels of the linearly implicit schemes
+//! (`contract_eta`, `apply_force`, `coupling_matrix`, in `coupling_blocks_kernels.rs`).
+//!
+//! Threads: built on a worker thread with the tensor; the kernels run on the audio thread
 //! without allocating.
 
 use super::coupling_runs::RunLayout;
@@ -492,6 +495,9 @@ impl BlockLayout {
         }
     }
 }
+
+#[path = "coupling_blocks_kernels.rs"]
+mod kernels;
 
 #[cfg(test)]
 #[path = "coupling_blocks_tests.rs"]

@@ -43,6 +43,36 @@ pub trait ModalCoupling: Send + Sync {
     fn apply_force(&self, q: &[f64], w: &[f64], out: &mut [f64]);
     /// Fills the dense row-major `N_Φ × N_Ψ` matrix `g[s * N_Ψ + l] = Σ_k H^l_{s,k} q_k`.
     fn coupling_matrix(&self, q: &[f64], g: &mut [f64]);
+    /// Scratch length (values) the `_with_scratch` kernels need; 0 (the default) when they
+    /// need none. The model allocates it once at build (worker thread).
+    fn kernel_scratch_len(&self) -> usize {
+        0
+    }
+    /// [`Self::contract_eta`] with caller-owned `scratch` of length at least
+    /// [`Self::kernel_scratch_len`] (the default ignores it). Audio thread, allocation-free.
+    fn contract_eta_with_scratch(
+        &self,
+        qa: &[f64],
+        qb: &[f64],
+        out: &mut [f64],
+        _scratch: &mut [f64],
+    ) {
+        self.contract_eta(qa, qb, out);
+    }
+    /// [`Self::apply_force`] with caller-owned `scratch` (as above).
+    fn apply_force_with_scratch(
+        &self,
+        q: &[f64],
+        w: &[f64],
+        out: &mut [f64],
+        _scratch: &mut [f64],
+    ) {
+        self.apply_force(q, w, out);
+    }
+    /// [`Self::coupling_matrix`] with caller-owned `scratch` (as above).
+    fn coupling_matrix_with_scratch(&self, q: &[f64], g: &mut [f64], _scratch: &mut [f64]) {
+        self.coupling_matrix(q, g);
+    }
     /// Optional fused kernel: `eta[l] = Σ_{i,j} H^l_{i,j} q_i q_j` and
     /// `grad[s] = ∂/∂q_s Σ_l w_l eta_l² = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, with `scratch` of
     /// length at least `3 N_Φ + 8`. Returns `false` without writing anything when the implementation has no

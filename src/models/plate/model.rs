@@ -95,6 +95,9 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     r: Vec<f64>,
     f: Vec<f64>,
     w: Vec<f64>,
+    /// Scratch of the coupling's `_with_scratch` kernels (`kernel_scratch_len` values,
+    /// allocated in [`Self::new`]; audio thread).
+    kscratch: Vec<f64>,
     solver: Option<SpdSolver>,
     /// Auxiliary state and scratch of the SAV scheme (`None` for the other schemes).
     sav: Option<SavStep>,
@@ -181,6 +184,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             r: vec![0.0; nf],
             f: vec![0.0; nf],
             w: vec![0.0; np],
+            kscratch: vec![0.0; coupling.kernel_scratch_len()],
             solver,
             sav: (params.scheme == PlateScheme::SavExact).then(|| SavStep::new(nf, np)),
             energy: PlateEnergy::default(),
@@ -226,8 +230,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             let lin = free_response_backward(self.omega[s], self.damping[s], h, q0[s], v0[s]);
             self.q_prev[s] = lin + 0.5 * h * h * self.f[s];
         }
-        self.coupling
-            .contract_eta(&self.q, &self.q_prev, &mut self.b_half);
+        self.coupling.contract_eta_with_scratch(
+            &self.q,
+            &self.q_prev,
+            &mut self.b_half,
+            &mut self.kscratch,
+        );
         if let Some(sav) = self.sav.as_mut() {
             // ψ(-½) = √(2u) with the conservative schemes' half-step u = Σ u_l Ĥ(q0, q(-1))_l²
             // (an O(h²)-consistent start; the same initial energy as those schemes).
@@ -319,7 +327,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         let nf = self.q.len();
         let np = self.b_half.len();
         // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} q_k(n).
-        self.coupling.coupling_matrix(&self.q, &mut self.g);
+        self.coupling
+            .coupling_matrix_with_scratch(&self.q, &mut self.g, &mut self.kscratch);
         match self.solver.as_mut() {
             None => {
                 // Störmer-Verlet: a q⁺ = b q - d q⁻ + h² (p + f(q)), f from η(q(n)) only:
@@ -505,11 +514,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             self.f.fill(0.0);
             return;
         }
-        self.coupling.contract_eta(&self.q, &self.q, &mut self.w);
+        self.coupling
+            .contract_eta_with_scratch(&self.q, &self.q, &mut self.w, &mut self.kscratch);
         for (w, &d) in self.w.iter_mut().zip(&self.dh2) {
             *w *= -2.0 * d * scale;
         }
-        self.coupling.apply_force(&self.q, &self.w, &mut self.f);
+        self.coupling
+            .apply_force_with_scratch(&self.q, &self.w, &mut self.f, &mut self.kscratch);
     }
 
     /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`).

@@ -1,4 +1,6 @@
-//! The sparse modal coupling tensor of [`crate::modal`] as the plate model's [`ModalCoupling`].
+//! The sparse modal coupling tensor of [`crate::modal`] as the plate model's [`ModalCoupling`]:
+//! the `_with_scratch` kernels (which the model calls) stream the dense selection-rule blocks,
+//! the plain ones the run layout (kept as references).
 
 use super::coupling::ModalCoupling;
 use crate::modal::CouplingTensor;
@@ -22,6 +24,22 @@ impl ModalCoupling for CouplingTensor {
 
     fn coupling_matrix(&self, q: &[f64], g: &mut [f64]) {
         CouplingTensor::coupling_matrix(self, q, g);
+    }
+
+    fn kernel_scratch_len(&self) -> usize {
+        CouplingTensor::kernel_scratch_len(self)
+    }
+
+    fn contract_eta_with_scratch(&self, qa: &[f64], qb: &[f64], out: &mut [f64], s: &mut [f64]) {
+        CouplingTensor::contract_eta_with_scratch(self, qa, qb, out, s);
+    }
+
+    fn apply_force_with_scratch(&self, q: &[f64], w: &[f64], out: &mut [f64], s: &mut [f64]) {
+        CouplingTensor::apply_force_with_scratch(self, q, w, out, s);
+    }
+
+    fn coupling_matrix_with_scratch(&self, q: &[f64], g: &mut [f64], s: &mut [f64]) {
+        CouplingTensor::coupling_matrix_with_scratch(self, q, g, s);
     }
 
     fn quartic_gradient(
