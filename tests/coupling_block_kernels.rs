@@ -66,10 +66,10 @@ fn check(t: &CouplingTensor, mut seed: u64) {
         t.contract_eta(&qa, &qb, &mut er);
         for l in 0..np {
             let (mut want, mut scale) = (0.0, 0.0);
-            for i in 0..nf {
-                for j in 0..nf {
-                    want += hh(l, i, j) * qa[i] * qb[j];
-                    scale += (hh(l, i, j) * qa[i] * qb[j]).abs();
+            for (i, &a) in qa.iter().enumerate() {
+                for (j, &b) in qb.iter().enumerate() {
+                    want += hh(l, i, j) * a * b;
+                    scale += (hh(l, i, j) * a * b).abs();
                 }
             }
             assert!(
