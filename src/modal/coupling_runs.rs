@@ -23,7 +23,9 @@
 //! The fused SAV kernel of [`super::CouplingTensor::quartic_gradient`] now streams the dense
 //! selection-rule blocks of `coupling_blocks.rs` (about 3-4× faster on the gong's tensors);
 //! [`RunLayout::quartic_gradient`] stays as its reference (`quartic_gradient_runs`) and as the
-//! fall-back for sparse class pairs, and the other kernels still use this layout.
+//! fall-back for sparse class pairs; the schemes' `contract_eta`, `apply_force` and
+//! `coupling_matrix` also stream the blocks (`*_with_scratch`), and the run kernels here stay
+//! as their references (the plain `CouplingTensor` methods).
 //!
 //! Threads: built on a worker thread with the tensor; kernels run on the audio thread without
 //! allocating.
