@@ -10,8 +10,9 @@
 //! - [`circular`]: characteristic equations and radial profiles (Leissa 1969);
 //! - [`coupling`]: the geometry-independent sparse tensor [`CouplingTensor`] and its
 //!   allocation-free kernels (`contract_eta`, `apply_force`, `coupling_matrix`,
-//!   `quartic_gradient`), streamed from a run layout (`coupling_runs.rs`) and, for the fused
-//!   SAV kernel `quartic_gradient`, from dense selection-rule blocks (`coupling_blocks.rs`);
+//!   `quartic_gradient`): the time schemes call the dense selection-rule block versions
+//!   (`coupling_blocks.rs`, `coupling_blocks_kernels.rs`, with caller-owned scratch); the run
+//!   layout (`coupling_runs.rs`) is kept as the reference implementation the tests compare with;
 //! - [`assemble`]: tensor assembly for the circular plate (analytic angular integrals,
 //!   Gauss-Legendre radial quadrature, scoped threads);
 //! - [`cache`]: on-disk cache (`PlateModes::load_or_build`);
