@@ -197,8 +197,8 @@ fn candidate_rates_follow_the_rule() {
     assert_eq!(divisor_rate(48_000.0, 1e9), 48_000.0);
 }
 
-/// Bad tolerances are refused with the field `quality.tolerance_db` and the allowed range;
-/// `auto` on a string scene is refused naming `quality.mode`.
+/// Bad tolerances are refused with the field `quality.tolerance_db` and the allowed range
+/// (on a string scene too, now that `auto` accepts strings).
 #[test]
 fn bad_tolerances_are_param_errors() {
     let base = std::fs::read_to_string(concat!(
@@ -220,8 +220,14 @@ fn bad_tolerances_are_param_errors() {
         "/assets/scenes/sitar.toml"
     ))
     .unwrap();
-    match Scene::from_toml(&sitar, "t", &["quality.mode=auto".into()]) {
-        Err(SceneError::Invalid(e)) => assert_eq!(e.field, "quality.mode"),
+    let auto = ["quality.mode=auto".to_string()];
+    assert!(Scene::from_toml(&sitar, "t", &auto).unwrap().is_auto());
+    match Scene::from_toml(
+        &sitar,
+        "t",
+        &[auto[0].clone(), "quality.tolerance_db=0".into()],
+    ) {
+        Err(SceneError::Invalid(e)) => assert_eq!(e.field, "quality.tolerance_db"),
         other => panic!("{other:?}"),
     }
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_noether"))
