@@ -144,13 +144,6 @@ impl Scene {
         self.output.validate()?;
         if let Some(q) = &self.quality {
             q.validate()?;
-            if q.is_auto() && self.string.is_some() {
-                return Err(ParamError::new(
-                    "quality.mode",
-                    "auto",
-                    "\"as-given\" for string scenes (\"auto\" is implemented for plates)",
-                ));
-            }
         }
         match (&self.plate, &self.string) {
             (Some(p), None) => p.validate(),

@@ -9,8 +9,8 @@
 //! excerpt_seconds = 0.25 # optional: length of the verification renders (s)
 //! ```
 //!
-//! With `mode = "auto"` the scene's own `n_phi`, `n_psi`, `symmetry` and `sim_rate` describe the
-//! FULL model: the upper bound of the search and the reference every candidate is verified
+//! With `mode = "auto"` the scene's own `n_phi`, `n_psi`, `symmetry` and `sim_rate` (a string
+//! scene's `modes` and `sim_rate`) describe the FULL model: the upper bound of the search and the reference every candidate is verified
 //! against ([`crate::render::auto`]). Parsed and validated on the thread loading the scene.
 
 use crate::error::{check_closed, ParamError};
@@ -30,7 +30,7 @@ pub enum QualityMode {
     /// Render `n_phi`, `n_psi`, `symmetry` and `sim_rate` exactly as written.
     #[default]
     AsGiven,
-    /// Choose the cheapest verified model within the tolerance (plates only).
+    /// Choose the cheapest verified model within the tolerance (plates and strings).
     Auto,
 }
 

@@ -1,11 +1,12 @@
 //! `quality = "auto"` (issue 6, "model only what a scene requires"): from a plate scene whose
-//! `n_phi`, `n_psi`, `symmetry` and `sim_rate` describe the FULL model, choose the cheapest
-//! reduced model whose render stays within the scene's tolerance of the full model's, and say
-//! why.
+//! `n_phi`, `n_psi`, `symmetry` and `sim_rate` describe the FULL model (or a string scene whose
+//! `modes` and `sim_rate` do), choose the cheapest reduced model whose render stays within the
+//! scene's tolerance of the full model's, and say why.
 //!
 //! - [`spectrum`]: the scene's modal frequencies and the strike's band, without building a basis;
 //! - [`plan`]: the symmetry decision and the ladder of candidates (transverse band × in-plane
 //!   count × rate), each choice with its reason, cheapest first;
+//! - [`plan_string`]: the string's ladder (mode count × rate, the contact scheme kept);
 //! - [`verify`]: renders a short excerpt of the full model and of the candidates from the
 //!   cheapest upward, measures the log-spectral distance (and the 50 ms L2 error) of each
 //!   against the full model, and keeps the first within the tolerance (the full model if none).
@@ -13,23 +14,28 @@
 //! Runs on the CLI thread (allocates, renders).
 
 pub mod plan;
+pub mod plan_string;
 pub mod spectrum;
 pub mod verify;
 
 pub use verify::{select, AutoReport, CandidateResult};
 
 use crate::scene::plate::Symmetry;
+use crate::scene::string::StringLosses;
 use crate::scene::Scene;
 use serde::Serialize;
 
-/// The sizes and rate of one plate model.
+/// The sizes and rate of one plate or string model.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ModelSize {
-    /// Transverse modes N_Φ (in the model's basis).
+    /// Whether this is a string model: then `n_phi` is the string's mode count N_m, `n_psi` is
+    /// 0 and `symmetry` is `Full` (unused).
+    pub string: bool,
+    /// Transverse modes N_Φ (in the model's basis); for a string, its mode count N_m.
     pub n_phi: usize,
-    /// In-plane modes N_Ψ (in the model's basis).
+    /// In-plane modes N_Ψ (in the model's basis); 0 for a string.
     pub n_psi: usize,
-    /// Basis symmetry.
+    /// Basis symmetry (`Full` for a string).
     pub symmetry: Symmetry,
     /// Simulation rate (Hz).
     pub sim_rate: f64,
@@ -37,12 +43,39 @@ pub struct ModelSize {
     pub f_max_hz: f64,
 }
 
+/// A string model of `modes` modes at `sim_rate` Hz whose top mode is `f_max_hz`.
+pub fn string_size(modes: usize, sim_rate: f64, f_max_hz: f64) -> ModelSize {
+    ModelSize {
+        string: true,
+        n_phi: modes,
+        n_psi: 0,
+        symmetry: Symmetry::Full,
+        sim_rate,
+        f_max_hz,
+    }
+}
+
 impl ModelSize {
-    /// `scene` with its plate resized to `self` and its `[quality]` table removed (the result
-    /// is a plain scene: rendering it renders exactly this model). Errors if the scene has no
-    /// plate or the result does not validate.
+    /// `scene` with its plate (or string) resized to `self` and its `[quality]` table removed
+    /// (the result is a plain scene: rendering it renders exactly this model). Errors if the
+    /// scene has no model of this kind or the result does not validate. A string's per-mode
+    /// damping list keeps its first `modes` values (the same modes).
     pub fn apply(&self, scene: &Scene) -> Result<Scene, String> {
         let mut s = scene.clone();
+        if self.string {
+            let st = s
+                .string
+                .as_mut()
+                .ok_or("a string model size applied to a scene without [string]")?;
+            st.modes = self.n_phi;
+            st.sim_rate = self.sim_rate;
+            if let StringLosses::PerMode { sigma } = &mut st.losses {
+                sigma.truncate(self.n_phi);
+            }
+            s.quality = None;
+            s.validate().map_err(|e| e.to_string())?;
+            return Ok(s);
+        }
         let p = s
             .plate
             .as_mut()
@@ -58,6 +91,12 @@ impl ModelSize {
 
     /// `n_phi x n_psi, symmetry, rate` for logs.
     pub fn label(&self) -> String {
+        if self.string {
+            return format!(
+                "{} modes, {} Hz (band {:.0} Hz)",
+                self.n_phi, self.sim_rate, self.f_max_hz
+            );
+        }
         format!(
             "{} x {} {}, {} Hz (band {:.0} Hz)",
             self.n_phi,

@@ -32,9 +32,10 @@ const DENSITY_MIRROR: f64 = 0.118;
 pub struct Candidate {
     /// Its sizes and rate.
     pub size: ModelSize,
-    /// Fraction of the heard band its transverse modes cover (1: all of it).
+    /// Fraction of the heard band its transverse modes cover (1: all of it); for a string,
+    /// its top mode over the heard band, `f_max / f_hear` (at least 1 when it covers it).
     pub band_fraction: f64,
-    /// Fraction of the full in-plane count it keeps.
+    /// Fraction of the full in-plane count it keeps (1 for a string).
     pub psi_fraction: f64,
     /// Estimated work per simulated second, `fs (N_Φ + nnz)`, `nnz` estimated from the
     /// tensor densities of the default gong (ordering only; the verification measures time).
@@ -121,8 +122,12 @@ fn choose_symmetry(p: &PlateScene) -> (Symmetry, String) {
     }
 }
 
-/// Builds the ladder for `scene` (a validated plate scene).
+/// Builds the ladder for `scene` (a validated plate or string scene; strings go to
+/// [`super::plan_string::plan_string`]).
 pub fn plan(scene: &Scene) -> Result<Plan, String> {
+    if scene.string.is_some() {
+        return super::plan_string::plan_string(scene);
+    }
     let p = scene
         .plate
         .as_ref()
@@ -144,6 +149,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, String> {
         .collect();
     let f_full = band_of(&basis, p.n_phi, false);
     let full = ModelSize {
+        string: false,
         n_phi: p.n_phi,
         n_psi: p.n_psi,
         symmetry: p.symmetry,
@@ -253,6 +259,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, String> {
         for &(pf, n_psi) in &psis {
             for &rate in &rates {
                 let size = ModelSize {
+                    string: false,
                     n_phi,
                     n_psi,
                     symmetry,

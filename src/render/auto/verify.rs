@@ -96,7 +96,7 @@ fn build_seconds(report: &crate::render::report::RenderReport) -> f64 {
         .unwrap_or(0.0)
 }
 
-/// Selects the model of `scene` (a plate scene; its `[quality]` table gives the tolerance, the
+/// Selects the model of `scene` (a plate or string scene; its `[quality]` table gives the tolerance, the
 /// default table with `mode = "auto"` when it has none): returns the report and the reduced
 /// scene (full duration, no `[quality]` table) to render. `log` receives one line per render.
 pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, Scene), String> {
