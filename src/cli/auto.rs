@@ -1,6 +1,6 @@
 //! `noether auto SCENE [--tolerance-db X] [--write reduced.toml]`: run the `quality = "auto"`
-//! selection of a plate or string scene (whatever its `[quality]` table says) without rendering the whole
-//! scene: print what was kept and why, the verified error and the speed-up, and optionally
+//! selection of a plate or string scene (whatever its `[quality]` table says) without
+//! rendering the whole scene: print what was kept and why, the verified error and the speed-up, and optionally
 //! write the reduced scene and the JSON of the selection. The work is
 //! [`noether::render::auto::select`].
 
@@ -12,7 +12,8 @@ use std::path::PathBuf;
 /// Arguments of `noether auto`.
 #[derive(Debug, Args)]
 pub struct AutoArgs {
-    /// Scene file (TOML); its sizes (plate: n_phi, n_psi, symmetry; string: modes) and sim_rate are the full model.
+    /// Scene file (TOML); its sizes (plate: n_phi, n_psi, symmetry; string: modes) and
+    /// sim_rate are the full model.
     pub scene: PathBuf,
     /// Largest log-spectral distance to the full model, dB (sets quality.tolerance_db).
     #[arg(long, allow_negative_numbers = true)]
