@@ -1,7 +1,7 @@
 //! `noether auto SCENE [--tolerance-db X] [--write reduced.toml]`: run the `quality = "auto"`
 //! selection of a plate or string scene (whatever its `[quality]` table says) without
-//! rendering the whole scene: print what was kept and why, the verified error and the speed-up, and optionally
-//! write the reduced scene and the JSON of the selection. The work is
+//! rendering the whole scene: print what was kept and why, the verified error and the
+//! speed-up, and optionally write the reduced scene and the JSON of the selection. The work is
 //! [`noether::render::auto::select`].
 
 use clap::Args;
