@@ -242,7 +242,7 @@ impl CouplingTensor {
         assert_eq!(q.len(), self.n_phi, "quartic_gradient: q length");
         assert_eq!(grad.len(), self.n_phi, "quartic_gradient: grad length");
         assert!(
-            scratch.len() >= Self::QUARTIC_SCRATCH_FACTOR * self.n_phi + 2 * PAD,
+            scratch.len() >= self.quartic_scratch_len(),
             "quartic_gradient: scratch length"
         );
         assert_eq!(w.len(), self.n_psi, "quartic_gradient: w length");
@@ -253,10 +253,8 @@ impl CouplingTensor {
     /// Scratch length [`Self::quartic_gradient`] needs: `3 N_Φ + 8` (permuted `q`, `H^l q` and
     /// gradient, plus the zero padding of the 4-lane block kernel).
     pub fn quartic_scratch_len(&self) -> usize {
-        Self::QUARTIC_SCRATCH_FACTOR * self.n_phi + 2 * PAD
+        3 * self.n_phi + 2 * PAD
     }
-
-    const QUARTIC_SCRATCH_FACTOR: usize = 3;
 
     /// The run-layout version of [`Self::quartic_gradient`] (gathers and scatters through
     /// 16-bit indices; `scratch` of length at least `N_Φ`), kept as the reference the block
