@@ -1,4 +1,4 @@
-//! The long real-time soak (issue 7): the driver of `tests/soak.rs` (`noether::soak`) for as
+//! The long real-time soak (issue 7): the driver of `tests/soak.rs` (`noether_testkit::soak`) for as
 //! long as asked, with `assert_no_alloc` around every `process_events` call (live in release
 //! too: this crate's dev-dependency turns off the crate's `disable_release` feature, so an
 //! allocation inside `process` aborts the run).
@@ -10,7 +10,7 @@
 
 use assert_no_alloc::{assert_no_alloc, AllocDisabler};
 use clap::Parser;
-use noether::soak::{self, SoakConfig};
+use noether_testkit::soak::{self, SoakConfig};
 use std::process::ExitCode;
 use std::time::Duration;
 

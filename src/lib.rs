@@ -1,46 +1,26 @@
-//! # Noether
+//! # Noether (offline)
 //!
-//! Physical-model sound synthesis with energy-conserving time integrators, after C. Touzé's
-//! lecture "Intégrateurs temporels numériques conservatifs pour la dynamique non linéaire"
-//! (2016; digest in `shared/docs/SEED.md`).
+//! The offline side of Noether, on top of the real-time core [`noether_core`]: scene files,
+//! the offline render loop (WAV, band-limited resampling, reports), accuracy and `auto` model
+//! selection studies, the extremes sweep, PNG plots, the lecture's integrator lab and the
+//! `noether` command line.
 //!
-//! The crate is an engine library plus the `noether` command-line tool. It has no plugin, GUI
-//! or audio-device dependency. Layout, by concept:
-//!
-//! - [`schemes`]: time steppers for one oscillator (θ-family, exact, Duffing, impact) and for
-//!   N-degree-of-freedom Hamiltonian systems (Störmer-Verlet, Runge-Kutta from Butcher tableaus,
-//!   Gauss methods);
-//! - [`models`]: physical models built on the schemes (modal von Kármán plate);
-//! - [`analysis`]: measurements on simulated signals (frequency, cents, energy drift) and the
-//!   closed-form solutions the schemes are checked against;
+//! - [`scene`], [`render`]: scene files (TOML, deserialised into the core's typed model
+//!   specifications) and the offline render loop;
+//! - [`analysis`]: the core's measurements plus spectrograms;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
-//! - [`modal`]: dimensionless modal bases of plates (Φ, Ψ) and their coupling tensors;
-//! - [`models`]: the instrument models (modal von Kármán plate, stiff string with contact);
-//! - [`scene`], [`render`]: scene files and the offline render loop (WAV, resampling);
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
-//! - [`modal_rect`]: modal data of the simply supported rectangular von Kármán plate (closed-form
-//!   transverse modes, Rayleigh-Ritz Airy modes, coupling tensor);
 //! - [`stress`]: sweeps of every model and scheme over extreme parameters (`tests/extremes.rs`,
-//!   `noether stress`);
-//! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/soak.rs`,
-//!   `examples/soak.rs`);
-//! - [`error`]: the parameter error type every constructor returns.
+//!   `noether stress`).
 //!
-//! Threading: everything here is plain data and `&mut self` methods; steppers never allocate in
-//! `step`, so they can run on an audio thread once built.
+//! The core's modules are re-exported under their own names ([`engine`], [`models`],
+//! [`modal`], [`modal_rect`], [`schemes`], [`error`]).
+
+pub use noether_core::{engine, error, modal, modal_rect, models, schemes, ParamError};
 
 pub mod analysis;
-pub mod engine;
-pub mod error;
 pub mod lab;
-pub mod modal;
-pub mod modal_rect;
-pub mod models;
 pub mod plot;
 pub mod render;
 pub mod scene;
-pub mod schemes;
-pub mod soak;
 pub mod stress;
-
-pub use error::ParamError;

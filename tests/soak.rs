@@ -1,4 +1,4 @@
-//! The bounded real-time soak (`noether::soak`, issue 7): a seeded random host drives the
+//! The bounded real-time soak (`noether_testkit::soak`, issue 7): a seeded random host drives the
 //! engine for `NOETHER_SOAK_SECONDS` of wall time (default 30; the whole test stays under
 //! about a minute on the loaded two-core machine) with automation of every parameter each
 //! block, note storms, rebuild bursts (model, modes, rate, scheme, polyphony) and host rate
@@ -13,7 +13,7 @@
 
 use assert_no_alloc::{assert_no_alloc, AllocDisabler};
 use noether::engine::{Engine, ParamId, Preset, SharedParams, VOICE_CEILING};
-use noether::soak::{self, SoakConfig};
+use noether_testkit::soak::{self, SoakConfig};
 use std::sync::Arc;
 use std::time::Duration;
 

@@ -410,7 +410,7 @@ fn offline_renderer_runs_the_string() {
     eprintln!(
         "render: drift {:.2e}, extras {:?}",
         r.stats.energy.max_rel_drift,
-        s.report_extras()
+        s.details()
     );
     assert_eq!(r.sim.len(), 3);
     assert_eq!(r.stats.nan_count, 0);

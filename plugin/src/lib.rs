@@ -1,5 +1,5 @@
 //! Noether as an instrument: a nice-plug CLAP and VST3 plugin and a standalone application
-//! around the `noether` engine ([`noether::engine`]), with an egui editor.
+//! around the `noether` engine ([`noether_core::engine`]), with an egui editor.
 //!
 //! This crate is glue only. The engine owns the physics, the voice pool, the worker thread that
 //! builds voice banks and the resampling to the host rate; this crate
@@ -24,7 +24,7 @@ use editor::EditorApp;
 use link::EngineLink;
 use nice_plug::prelude::*;
 use nice_plug_egui::{create_egui_editor, EguiEditor, EguiNiceSettings, RepaintNotifier};
-use noether::engine::{Engine, Event, SharedParams};
+use noether_core::engine::{Engine, Event, SharedParams};
 use params::NoetherParams;
 use std::num::NonZeroU32;
 use std::sync::Arc;

@@ -2,7 +2,7 @@
 //! status) behind a mutex that only the GUI and main threads take; the audio thread never
 //! touches it (it talks to the handle through the engine's lock-free queues).
 
-use noether::engine::{EngineHandle, EventKind, GuiCommand, Telemetry};
+use noether_core::engine::{EngineHandle, EventKind, GuiCommand, Telemetry};
 use std::sync::Mutex;
 
 /// Shared between the plugin (which created the engine) and the editor.

@@ -7,7 +7,7 @@
 //! CC 120 → all sound off, CC 123 → all notes off. Other events are ignored.
 
 use nice_plug::prelude::*;
-use noether::engine::{Event, EventKind};
+use noether_core::engine::{Event, EventKind};
 
 /// Appends the engine event(s) for `event` to `out` (nothing if it has no engine meaning).
 pub fn translate<S>(event: &NoteEvent<S>, out: &mut Vec<Event>) {

@@ -1,5 +1,5 @@
 //! The plugin's parameters: one nice-plug parameter per row of the engine's static table
-//! ([`noether::engine::PARAMS`]), same stable key, name, unit and range, so hosts automate
+//! ([`noether_core::engine::PARAMS`]), same stable key, name, unit and range, so hosts automate
 //! exactly the engine's parameters. Enumerations and integers become `IntParam`s (with the
 //! enumeration names as their text), floats `FloatParam`s (log-like skew where the table marks
 //! the range as spanning decades).
@@ -11,7 +11,7 @@
 use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
-use noether::engine::{ParamId, ParamInfo, ParamKind, SharedParams, PARAMS};
+use noether_core::engine::{ParamId, ParamInfo, ParamKind, SharedParams, PARAMS};
 use std::collections::BTreeMap;
 use std::sync::{Arc, RwLock};
 

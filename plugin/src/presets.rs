@@ -3,7 +3,7 @@
 //! thread). A preset whose values the engine refuses is left out and logged.
 
 use nice_plug::prelude::*;
-use noether::engine::{ParamValues, Preset};
+use noether_core::engine::{ParamValues, Preset};
 
 /// A factory preset ready to apply.
 #[derive(Debug, Clone)]
@@ -40,7 +40,7 @@ pub fn factory_presets() -> Vec<FactoryPreset> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use noether::engine::PARAMS;
+    use noether_core::engine::PARAMS;
 
     /// Every embedded factory preset resolves (none is dropped), includes the lecture's gong
     /// and both strings, and lies inside the host parameters' ranges.

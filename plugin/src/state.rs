@@ -29,7 +29,7 @@
 //! Threads: the host's main thread (state load), never the audio thread.
 
 use nice_plug::plugin::{ParamValue, PluginState};
-use noether::engine::{ParamInfo, ParamKind, PARAMS};
+use noether_core::engine::{ParamInfo, ParamKind, PARAMS};
 use std::fmt;
 
 /// One change [`repair`] made to a loaded state.
@@ -248,7 +248,7 @@ pub fn repair(state: &mut PluginState, current: &'static str) -> Vec<StateIssue>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use noether::engine::{ParamId, MODEL_NAMES};
+    use noether_core::engine::{ParamId, MODEL_NAMES};
 
     const V: &str = "0.1.0";
 

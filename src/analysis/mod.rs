@@ -1,13 +1,6 @@
-//! Measurements on simulated signals and the closed forms they are checked against.
-//!
-//! - [`frequency`]: oscillation frequency from zero crossings, cents;
-//! - [`dispersion`]: closed-form frequencies of the schemes' linear partials;
-//! - [`energy`]: energy-drift statistics;
-//! - [`analytic`]: exact solutions (linear damped oscillator, Duffing via Jacobi `cn`) and the
-//!   closed-form numerical frequency of the θ-family.
+//! Measurements on simulated signals: the core's closed forms, dispersion, frequency and
+//! energy-drift tools ([`noether_core::analysis`]), plus spectrograms (FFT, offline only).
 
-pub mod analytic;
-pub mod dispersion;
-pub mod energy;
-pub mod frequency;
+pub use noether_core::analysis::*;
+
 pub mod spectrogram;

@@ -9,5 +9,5 @@ pub mod report;
 pub mod resample;
 pub mod scene;
 pub mod shape_plot;
-pub mod source;
+pub use noether_core::models::source;
 pub mod wav;

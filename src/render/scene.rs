@@ -7,7 +7,7 @@ use super::source::RenderSource;
 use crate::analysis::dispersion::max_cents_error;
 use crate::models::plate::voice::PlateVoice;
 use crate::models::string::StiffString;
-use crate::scene::{Scene, StringScene};
+use crate::scene::{Scene, StringSpec};
 
 /// Energy samples kept for plots and statistics over a render.
 pub const ENERGY_POINTS: usize = 4000;
@@ -29,7 +29,7 @@ pub struct SceneSource {
 }
 
 /// Builds the string of `scene` and sets its initial condition or strike.
-pub fn build_string(scene: &StringScene) -> Result<StiffString, String> {
+pub fn build_string(scene: &StringSpec) -> Result<StiffString, String> {
     scene.validate().map_err(|e| e.to_string())?;
     let scoped = |mut e: crate::ParamError| {
         e.field = format!("string.{}", e.field);
@@ -102,7 +102,10 @@ pub fn render_scene(
     )?;
     let source = built.source.as_ref();
     let s = &rendered.stats;
-    let mut details = source.report_extras();
+    let mut details = match serde_json::to_value(source.details()) {
+        Ok(serde_json::Value::Object(m)) => m,
+        _ => serde_json::Map::new(),
+    };
     if let Some(string) = &scene.string {
         details.insert("f_max".into(), string.f_max().into());
         details.insert(

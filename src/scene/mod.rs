@@ -9,13 +9,13 @@
 //! plugin's worker), never on the audio thread.
 
 pub mod overrides;
-pub mod plate;
+pub use noether_core::models::plate::spec as plate;
 pub mod quality;
-pub mod string;
+pub use noether_core::models::string::spec as string;
 
-pub use plate::PlateScene;
+pub use plate::PlateSpec;
 pub use quality::{Quality, QualityMode};
-pub use string::StringScene;
+pub use string::StringSpec;
 
 use crate::error::{check_closed, ParamError};
 use serde::{Deserialize, Serialize};
@@ -65,10 +65,10 @@ pub struct Scene {
     pub output: OutputSpec,
     /// The plate model, when the scene is a plate or gong.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub plate: Option<PlateScene>,
+    pub plate: Option<PlateSpec>,
     /// The stiff string model, when the scene is a sitar, tanpura or other string.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub string: Option<StringScene>,
+    pub string: Option<StringSpec>,
     /// Model selection (`[quality]`): as given, or `mode = "auto"` with a tolerance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub quality: Option<Quality>,

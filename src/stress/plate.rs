@@ -3,7 +3,7 @@
 //! radius or sides (0.05 to 3 m), damping (none, the lecture's law, critical, ten times
 //! critical), simulation rate (8 kHz to 4 MHz) and mode counts (N_Φ from 1 to 2000).
 //!
-//! Cases are built through the scene route ([`PlateScene`] → [`PlateVoice`]), so they cover the
+//! Cases are built through the scene route ([`PlateSpec`] → [`PlateVoice`]), so they cover the
 //! scaling and validation a user's scene goes through. Design: each axis is varied alone around
 //! a base case (the default gong's material, a = 0.3 m or 0.4 × 0.6 m, h = 1 mm, 60 N, 48 kHz),
 //! plus corner cases combining the extremes.
@@ -12,7 +12,7 @@ use super::{check_finite_outputs, BalanceMeter, Case, Density, RunResult};
 use crate::models::plate::voice::PlateVoice;
 use crate::render::source::RenderSource;
 use crate::scene::plate::{
-    Damping, Excitation, Material, PlateScene, PlateScheme, PlateShape, Position,
+    Damping, Excitation, Material, PlateScheme, PlateShape, PlateSpec, Position,
 };
 use crate::ParamError;
 
@@ -54,7 +54,7 @@ impl PlateCase {
         )
     }
 
-    fn scene(&self) -> PlateScene {
+    fn scene(&self) -> PlateSpec {
         let circular = self.shape.is_circular();
         let at = if circular {
             Position {
@@ -69,7 +69,7 @@ impl PlateCase {
                 ..Position::default()
             }
         };
-        PlateScene {
+        PlateSpec {
             shape: self.shape,
             radius: circular.then_some(self.size),
             lx: (!circular).then_some(self.size),

@@ -17,7 +17,7 @@ use egui::{Color32, RichText, Vec2};
 use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
-use noether::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
+use noether_core::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -64,7 +64,7 @@ impl EditorApp {
         let Some(preset) = self.presets.get(index) else {
             return;
         };
-        for info in noether::engine::PARAMS {
+        for info in noether_core::engine::PARAMS {
             let v = preset.values.get(info.id);
             panels::set_slot(setter, self.params.slot(info.id), v);
         }

@@ -6,7 +6,7 @@ use crate::params::{group_of, NoetherParams, Slot};
 use egui::Ui;
 use nice_plug::prelude::*;
 use nice_plug_egui::widgets::ParamSlider;
-use noether::engine::{ParamId, ParamKind, PARAMS};
+use noether_core::engine::{ParamId, ParamKind, PARAMS};
 
 /// Group names in display order (the values [`group_of`] returns).
 const GROUPS: [&str; 7] = [

@@ -7,7 +7,7 @@
 
 use super::spectrum::{band_of, count_below, mirror_in_plane_count, strike_band, transverse};
 use super::ModelSize;
-use crate::scene::plate::{Excitation, PlateScene, PlateScheme, Symmetry};
+use crate::scene::plate::{Excitation, PlateScheme, PlateSpec, Symmetry};
 use crate::scene::Scene;
 
 /// Fractions of the heard transverse band tried (of `min(f_max, f_hear)`).
@@ -90,7 +90,7 @@ pub fn divisor_rate(scene_rate: f64, need: f64) -> f64 {
 }
 
 /// Decides the symmetry and returns it with its reason.
-fn choose_symmetry(p: &PlateScene) -> (Symmetry, String) {
+fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
     if p.symmetry == Symmetry::StrikeMirror {
         return (
             Symmetry::StrikeMirror,

@@ -7,11 +7,11 @@
 
 use crate::modal::{circular_modes_with, CircularEdge, Parity};
 use crate::modal_rect::transverse_modes;
-use crate::scene::plate::{PlateScene, PlateShape};
+use crate::scene::plate::{PlateShape, PlateSpec};
 use std::f64::consts::TAU;
 
 /// Transverse edge condition of a circular scene.
-fn edge(plate: &PlateScene) -> CircularEdge {
+fn edge(plate: &PlateSpec) -> CircularEdge {
     if plate.shape == PlateShape::CircularClamped {
         CircularEdge::Clamped
     } else {
@@ -21,7 +21,7 @@ fn edge(plate: &PlateScene) -> CircularEdge {
 
 /// `√(D/ρh)/L²` (rad/s per unit of dimensionless `λ²`), `L` the radius or `lx`, as the voice
 /// scales its basis (`src/models/plate/voice.rs`).
-fn omega_scale(plate: &PlateScene) -> f64 {
+fn omega_scale(plate: &PlateSpec) -> f64 {
     let a = plate.length_scale();
     (plate.rigidity() / plate.surface_density()).sqrt() / (a * a)
 }
@@ -38,7 +38,7 @@ pub struct ModeFreq {
 
 /// The first `count` transverse modes of the scene's plate in the FULL basis (cos and sin
 /// pairs), in the basis's own order (increasing frequency).
-pub fn transverse(plate: &PlateScene, count: usize) -> Vec<ModeFreq> {
+pub fn transverse(plate: &PlateSpec, count: usize) -> Vec<ModeFreq> {
     let scale = omega_scale(plate) / TAU;
     match plate.shape {
         PlateShape::RectSs => {
@@ -65,7 +65,7 @@ pub fn transverse(plate: &PlateScene, count: usize) -> Vec<ModeFreq> {
 /// How many `cos nθ` in-plane modes the first `count` in-plane modes of the full basis hold:
 /// the `n_psi` of the mirror basis of the same in-plane band (the in-plane modes are of the
 /// clamped type, `Ψ = ∂Ψ/∂r = 0` at the edge, whatever the transverse edge).
-pub fn mirror_in_plane_count(plate: &PlateScene, count: usize) -> usize {
+pub fn mirror_in_plane_count(plate: &PlateSpec, count: usize) -> usize {
     circular_modes_with(CircularEdge::Clamped, plate.material.poisson, count, false)
         .iter()
         .filter(|m| m.parity == Parity::Cos)

@@ -40,7 +40,7 @@ impl PlateEnergy {
     }
 }
 
-impl From<PlateEnergy> for crate::render::source::EnergyTerms {
+impl From<PlateEnergy> for crate::models::source::EnergyTerms {
     /// The render and engine view of the plate's energy terms (J), same values.
     fn from(e: PlateEnergy) -> Self {
         Self {

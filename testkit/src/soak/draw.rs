@@ -5,7 +5,7 @@
 //! Threads: everything here runs on the thread driving the engine, between blocks (it
 //! allocates only the event vector's growth, outside `process`).
 
-use crate::engine::{Event, EventKind, ParamInfo, ParamKind};
+use noether_core::engine::{Event, EventKind, ParamInfo, ParamKind};
 use oorandom::Rand64;
 
 /// Probability that a drawn parameter value is exactly its minimum (and, separately, its
@@ -181,7 +181,7 @@ impl Storm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::engine::PARAMS;
+    use noether_core::engine::PARAMS;
 
     #[test]
     fn values_stay_in_range_and_hit_the_extremes() {

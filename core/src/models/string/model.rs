@@ -12,7 +12,9 @@ use super::params::StringParams;
 use super::rows::NodeRows;
 use super::transform::ModalMap;
 use crate::error::ParamError;
-use crate::render::source::{ContactSummary, EnergyTerms, RenderSource, ShapeSnapshot};
+use crate::models::source::{
+    ContactSummary, EnergyTerms, ModelDetails, RenderSource, ShapeSnapshot, StringDetails,
+};
 
 /// Largest number of stored grid rows (obstacle nodes plus the nodes grid pickups read) for
 /// which rows of `S` are kept (memory `ROW_LIMIT · N_m` values, [`NodeRows`]): a step then
@@ -509,36 +511,22 @@ impl RenderSource for StiffString {
         })
     }
 
-    fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
+    fn details(&self) -> ModelDetails {
         let s = &self.stats;
-        let mut m = serde_json::Map::new();
-        m.insert("modes".into(), self.q.len().into());
-        m.insert("contact_scheme".into(), self.scheme.name().into());
-        if self.scheme == ContactScheme::Quadratised {
-            m.insert(
-                "quadratisation_gap_j".into(),
-                self.quadratisation_gap().into(),
-            );
-        }
-        m.insert("obstacle_nodes".into(), self.contact_nodes.len().into());
-        m.insert("contact_steps".into(), s.contact_steps.into());
-        m.insert("newton_max_iterations".into(), s.max_iterations().into());
-        m.insert("newton_cap_hits".into(), s.cap_hits.into());
-        m.insert(
-            "newton_mean_iterations_in_contact".into(),
-            s.mean_iterations_in_contact().into(),
-        );
-        m.insert("max_penetration_m".into(), s.max_penetration.into());
         let last = s.max_iterations();
-        m.insert(
-            "newton_histogram".into(),
-            s.histogram[..=last]
-                .iter()
-                .map(|&c| c.into())
-                .collect::<Vec<serde_json::Value>>()
-                .into(),
-        );
-        m
+        ModelDetails::String(StringDetails {
+            modes: self.q.len(),
+            contact_scheme: self.scheme.name().into(),
+            quadratisation_gap_j: (self.scheme == ContactScheme::Quadratised)
+                .then(|| self.quadratisation_gap()),
+            obstacle_nodes: self.contact_nodes.len(),
+            contact_steps: s.contact_steps,
+            newton_max_iterations: last,
+            newton_cap_hits: s.cap_hits,
+            newton_mean_iterations_in_contact: s.mean_iterations_in_contact(),
+            max_penetration_m: s.max_penetration,
+            newton_histogram: s.histogram[..=last].to_vec(),
+        })
     }
 }
 

@@ -71,6 +71,68 @@ pub struct ContactSummary {
     pub obstacle_nodes: usize,
 }
 
+/// What a plate voice was built from, for reports (built once, read by any thread).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlateDetails {
+    /// Transverse modes kept.
+    pub n_phi: usize,
+    /// In-plane modes kept (0: linear plate).
+    pub n_psi: usize,
+    /// Highest transverse frequency (Hz).
+    pub f_max: f64,
+    /// Lowest transverse frequency (Hz).
+    pub f_min: f64,
+    /// Non-zero stored tensor entries.
+    pub tensor_nonzeros: usize,
+    /// What the modal cache did (`computed`, `loaded`, `memory`, ...).
+    pub cache: String,
+    /// Seconds spent computing or loading the modal data.
+    pub modal_seconds: f64,
+    /// Scheme identifier, as spelled in scenes (`sav`, `conservative-exact`, ...).
+    pub scheme: String,
+    /// Modal subspace, as spelled in scenes (`full` or `strike-mirror`).
+    pub symmetry: String,
+}
+
+/// Contact-solver figures of a string over a run, for reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StringDetails {
+    /// Modes simulated.
+    pub modes: usize,
+    /// Contact scheme identifier (`newton` or `quadratised`).
+    pub contact_scheme: String,
+    /// The quadratised scheme's gap between its auxiliary energy and the contact potential (J);
+    /// absent for the Newton scheme.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub quadratisation_gap_j: Option<f64>,
+    /// Grid nodes carrying an obstacle.
+    pub obstacle_nodes: usize,
+    /// Steps with a non-zero contact force.
+    pub contact_steps: u64,
+    /// Largest Newton iteration count of any node-step.
+    pub newton_max_iterations: usize,
+    /// Node-steps that hit the iteration cap.
+    pub newton_cap_hits: u64,
+    /// Mean iterations over node-steps that needed at least one.
+    pub newton_mean_iterations_in_contact: f64,
+    /// Largest penetration seen (m).
+    pub max_penetration_m: f64,
+    /// `newton_histogram[k]`: node-steps that took `k` iterations.
+    pub newton_histogram: Vec<u64>,
+}
+
+/// Model-specific figures of a [`RenderSource`], typed; the offline report serialises them.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(untagged)]
+pub enum ModelDetails {
+    /// The model reports nothing more.
+    None,
+    /// A plate voice.
+    Plate(PlateDetails),
+    /// A string.
+    String(StringDetails),
+}
+
 /// A model the offline renderer can run: it advances at its own simulation rate and writes
 /// one value per output channel per step.
 ///
@@ -88,9 +150,9 @@ pub trait RenderSource {
     fn energy(&self) -> EnergyTerms;
     /// Whether the scheme conserves its discrete energy (so drift is an error to report).
     fn is_conservative(&self) -> bool;
-    /// Model-specific figures for the report (solver counters, mode counts, ...).
-    fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
-        serde_json::Map::new()
+    /// Model-specific figures for the report (mode counts, solver counters, ...).
+    fn details(&self) -> ModelDetails {
+        ModelDetails::None
     }
     /// Time (s) of output sample 0 of `channel` after the start of the motion (default 0): the
     /// renderer shifts the resampled signal by it, so every WAV starts at t = 0 whatever the

@@ -1,7 +1,7 @@
 //! The `[string]` table of a scene: the stiff string against an obstacle (SEED.md 3.2), its
 //! losses, contact law, excitation, outputs and the instants of the shape plot.
 //!
-//! Parsed and validated on the thread that loads the scene; [`StringScene::config`] turns it into
+//! Parsed and validated on the thread that loads the scene; [`StringSpec::config`] turns it into
 //! the model's [`StringConfig`] (no audio-thread use).
 
 use crate::error::{check_closed, check_non_negative, ParamError};
@@ -204,7 +204,7 @@ pub enum StringOutput {
 /// The `[string]` table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct StringScene {
+pub struct StringSpec {
     /// Length L in m (0.01 to 100).
     pub length: f64,
     /// Diameter d in m (0 to 0.1; used by the air-friction loss).
@@ -256,7 +256,7 @@ fn scoped(mut e: ParamError) -> ParamError {
     e
 }
 
-impl StringScene {
+impl StringSpec {
     /// Checks every field's range; errors name the dotted field (`string.tension`, ...).
     pub fn validate(&self) -> Result<(), ParamError> {
         let l = check_closed("string.length", self.length, 0.01, 100.0)?;
@@ -455,7 +455,7 @@ impl StringScene {
         }
     }
 
-    /// The model configuration (call after [`StringScene::validate`]).
+    /// The model configuration (call after [`StringSpec::validate`]).
     pub fn config(&self) -> StringConfig {
         let params = self.params();
         let losses = match &self.losses {

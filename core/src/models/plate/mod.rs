@@ -95,6 +95,7 @@ pub mod model;
 pub mod params;
 mod sav;
 mod sparse;
+pub mod spec;
 pub mod voice;
 
 pub use coupling::{DenseCoupling, ModalCoupling};

@@ -30,7 +30,9 @@ pub use draw::{Draw, Storm, StormCounts, EXTREME_CHANCE};
 pub use quality::{needs_rebuild, Signature};
 pub use summary::{SoakFailure, SoakSummary, WorstBlock};
 
-use crate::engine::{Engine, Event, ParamId, SharedParams, MAX_VOICES, PARAMS, VOICE_CEILING};
+use noether_core::engine::{
+    Engine, Event, ParamId, SharedParams, MAX_VOICES, PARAMS, VOICE_CEILING,
+};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -303,7 +305,7 @@ where
 }
 
 /// `key=value` for every parameter (failure messages).
-fn describe(v: &crate::engine::ParamValues) -> String {
+fn describe(v: &noether_core::engine::ParamValues) -> String {
     PARAMS
         .iter()
         .map(|p| format!("{}={}", p.key, v.get(p.id)))

@@ -8,7 +8,7 @@ use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
 use super::telemetry::{Telemetry, VoiceTelemetry, MAX_VOICES};
 use super::voice::Physics;
 use crate::error::{check_closed, ParamError};
-use crate::render::source::EnergyTerms;
+use crate::models::source::EnergyTerms;
 use crossbeam_channel::{bounded, Receiver, Sender};
 use ringbuf::traits::{Consumer, Producer, Split};
 use ringbuf::{HeapCons, HeapProd, HeapRb};

@@ -28,9 +28,9 @@ use super::params::{ParamId, ParamValues};
 use super::telemetry::{SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::modal::CouplingTensor;
 use crate::models::plate::{PlateModel, RaisedCosine};
+use crate::models::source::EnergyTerms;
 use crate::models::string::params::Stiffness;
 use crate::models::string::{StiffString, TrianglePluck, ValetteLosses};
-use crate::render::source::EnergyTerms;
 use std::sync::Arc;
 
 /// Per-bank data of a plate model: the dimensionless modal data and the mode values at the

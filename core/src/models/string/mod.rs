@@ -63,6 +63,7 @@ pub mod obstacle;
 pub mod output;
 pub mod params;
 pub mod rows;
+pub mod spec;
 pub mod transform;
 
 pub use contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};

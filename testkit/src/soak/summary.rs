@@ -6,7 +6,7 @@
 use super::draw::StormCounts;
 use super::quality::Signature;
 use super::SoakConfig;
-use crate::engine::{Engine, EngineHandle, ModelKind};
+use noether_core::engine::{Engine, EngineHandle, ModelKind};
 use std::fmt;
 use std::time::Duration;
 

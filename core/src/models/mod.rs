@@ -1,10 +1,11 @@
-//! Physical models, each runnable as a [`crate::render::source::RenderSource`]:
+//! Physical models, each runnable as a [`crate::models::source::RenderSource`]:
 //!
 //! - [`plate`]: modal von Kármán plate (gongs, plates; SEED.md section 3.1);
 //! - [`string`]: stiff string against a unilateral obstacle (sitar, tanpura), modal exact
 //!   linear scheme with an energy-conserving contact force (SEED.md section 3.2).
 
 pub mod plate;
+pub mod source;
 pub mod string;
 
 /// Magnitude below which the models set a modal state value to exactly zero after each step

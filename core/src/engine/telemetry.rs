@@ -3,7 +3,7 @@
 //!
 //! Plain `Copy` data of fixed size: pushing it never allocates.
 
-use crate::render::source::EnergyTerms;
+use crate::models::source::EnergyTerms;
 
 /// Largest polyphony (the `polyphony` parameter's maximum): the telemetry holds this many
 /// voice slots.

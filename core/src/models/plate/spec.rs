@@ -227,7 +227,7 @@ pub struct Pickup {
 /// The `[plate]` table.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PlateScene {
+pub struct PlateSpec {
     /// Geometry and boundary conditions.
     pub shape: PlateShape,
     /// Radius a in m (circular plates; 0.01 to 10).
@@ -267,7 +267,7 @@ pub struct PlateScene {
     pub pickups: Vec<Pickup>,
 }
 
-impl PlateScene {
+impl PlateSpec {
     /// Checks every field's range; errors name the dotted field (`plate.thickness`, ...).
     pub fn validate(&self) -> Result<(), ParamError> {
         if self.shape.is_circular() {

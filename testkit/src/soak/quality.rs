@@ -11,8 +11,8 @@
 
 use super::draw::Draw;
 use super::SoakConfig;
-use crate::engine::{ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS};
-use crate::ParamError;
+use noether_core::engine::{ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS};
+use noether_core::ParamError;
 
 /// The properties of a voice bank the engine reports, which a burst's final step sets.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -8,17 +8,15 @@
 //! the dimensionless basis and tensor are reused as they are.
 
 use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
+use super::spec::PlateScheme as SceneScheme;
+use super::spec::{Damping, Excitation, PlateShape, PlateSpec, Position, Quantity, Symmetry};
 use super::{LinearSolve, PlateModel, PlateParams, PlateScheme};
 use crate::error::ParamError;
 use crate::modal::{
     default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
 };
 use crate::modal_rect::{CouplingTriplets, RectModes, RectSpec};
-use crate::render::source::{EnergyTerms, RenderSource};
-use crate::scene::plate::PlateScheme as SceneScheme;
-use crate::scene::plate::{
-    Damping, Excitation, PlateScene, PlateShape, Position, Quantity, Symmetry,
-};
+use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
 use std::sync::Arc;
 
 /// The force applied at the excitation point, sample by sample.
@@ -40,30 +38,7 @@ pub struct PlateVoice {
     step: u64,
     fs: f64,
     /// Figures for the report.
-    info: PlateInfo,
-}
-
-/// What a voice was built from, for reports.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct PlateInfo {
-    /// Transverse modes kept.
-    pub n_phi: usize,
-    /// In-plane modes kept (0: linear plate).
-    pub n_psi: usize,
-    /// Highest transverse frequency (Hz).
-    pub f_max: f64,
-    /// Lowest transverse frequency (Hz).
-    pub f_min: f64,
-    /// Non-zero stored tensor entries.
-    pub tensor_nonzeros: usize,
-    /// Whether the modal data came from the cache.
-    pub cache: String,
-    /// Seconds spent computing or loading the modal data.
-    pub modal_seconds: f64,
-    /// Scheme identifier.
-    pub scheme: String,
-    /// Modal subspace (`full` or `strike-mirror`).
-    pub symmetry: Symmetry,
+    info: PlateDetails,
 }
 
 /// Dimensionless modal data of a plate: `λ²` (Φ), `ζ⁴` (Ψ), the coupling tensor, the mode
@@ -99,7 +74,7 @@ pub(crate) fn tensor_from_triplets(t: &CouplingTriplets) -> Result<CouplingTenso
 
 impl PlateVoice {
     /// Builds the voice for `scene` (validated), computing or loading its modal data.
-    pub fn build(scene: &PlateScene) -> Result<Self, String> {
+    pub fn build(scene: &PlateSpec) -> Result<Self, String> {
         scene.validate().map_err(map_err)?;
         let start = std::time::Instant::now();
         let nu = scene.material.poisson;
@@ -258,7 +233,7 @@ impl PlateVoice {
             model.set_state(&q0, &v0).map_err(map_err)?;
         }
         let two_pi = std::f64::consts::TAU;
-        let info = PlateInfo {
+        let info = PlateDetails {
             n_phi: omega.len(),
             n_psi: if linear_only { 0 } else { zeta4.len() },
             f_max: omega.iter().fold(0.0f64, |m, &w| m.max(w)) / two_pi,
@@ -273,7 +248,11 @@ impl PlateVoice {
                 SceneScheme::Sav => "sav",
             }
             .into(),
-            symmetry: scene.symmetry,
+            symmetry: match scene.symmetry {
+                Symmetry::Full => "full",
+                Symmetry::StrikeMirror => "strike-mirror",
+            }
+            .into(),
         };
         Ok(Self {
             model,
@@ -285,7 +264,7 @@ impl PlateVoice {
     }
 
     /// What the voice was built from.
-    pub fn info(&self) -> &PlateInfo {
+    pub fn info(&self) -> &PlateDetails {
         &self.info
     }
 
@@ -336,11 +315,8 @@ impl RenderSource for PlateVoice {
         self.model.linear_partials()
     }
 
-    fn report_extras(&self) -> serde_json::Map<String, serde_json::Value> {
-        match serde_json::to_value(&self.info) {
-            Ok(serde_json::Value::Object(m)) => m,
-            _ => serde_json::Map::new(),
-        }
+    fn details(&self) -> ModelDetails {
+        ModelDetails::Plate(self.info.clone())
     }
 }
 

@@ -63,25 +63,28 @@ pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
 const FACTORY: &[(&str, &str)] = &[
     (
         "gong-40N",
-        include_str!("../../assets/presets/gong-40N.toml"),
+        include_str!("../../../assets/presets/gong-40N.toml"),
     ),
     (
         "gong-80N",
-        include_str!("../../assets/presets/gong-80N.toml"),
+        include_str!("../../../assets/presets/gong-80N.toml"),
     ),
     (
         "rect-plate",
-        include_str!("../../assets/presets/rect-plate.toml"),
+        include_str!("../../../assets/presets/rect-plate.toml"),
     ),
-    ("sitar", include_str!("../../assets/presets/sitar.toml")),
+    ("sitar", include_str!("../../../assets/presets/sitar.toml")),
     (
         "sitar-b0",
-        include_str!("../../assets/presets/sitar-b0.toml"),
+        include_str!("../../../assets/presets/sitar-b0.toml"),
     ),
-    ("tanpura", include_str!("../../assets/presets/tanpura.toml")),
+    (
+        "tanpura",
+        include_str!("../../../assets/presets/tanpura.toml"),
+    ),
     (
         "tanpura-b0",
-        include_str!("../../assets/presets/tanpura-b0.toml"),
+        include_str!("../../../assets/presets/tanpura-b0.toml"),
     ),
 ];
 
