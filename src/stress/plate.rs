@@ -226,10 +226,10 @@ pub fn cases(density: Density) -> Vec<Case> {
         PlateShape::RectSs,
     ] {
         for scheme in [
-            PlateScheme::Conservative,
+            PlateScheme::ConservativeTheta1,
             PlateScheme::ConservativeExact,
-            PlateScheme::StormerVerlet,
-            PlateScheme::Sav,
+            PlateScheme::StormerVerletExact,
+            PlateScheme::SavExact,
         ] {
             let base = PlateCase {
                 shape,
@@ -295,21 +295,21 @@ pub fn cases(density: Density) -> Vec<Case> {
                 let steps = ((seconds * c.fs).min(budget / work).max(64.0)) as usize;
                 // θ = 1 is stable only for fs > f_max π: a refusal naming fs is expected
                 // where that fails; the other schemes have no linear limit.
-                let may_refuse = scheme == PlateScheme::Conservative;
+                let may_refuse = scheme == PlateScheme::ConservativeTheta1;
                 let family = format!(
                     "plate {} {}",
                     shape_name(shape),
                     match scheme {
-                        PlateScheme::Conservative => "conservative",
+                        PlateScheme::ConservativeTheta1 => "conservative",
                         PlateScheme::ConservativeExact => "conservative-exact",
-                        PlateScheme::StormerVerlet => "stormer-verlet",
-                        PlateScheme::Sav => "sav",
+                        PlateScheme::StormerVerletExact => "stormer-verlet",
+                        PlateScheme::SavExact => "sav",
                     }
                 );
                 let case = Case::new(family, c.label(), may_refuse, move || run_case(c, steps));
                 // Störmer-Verlet's explicit nonlinear term is stable only below an
                 // amplitude-dependent limit (SEED 1.3): a divergence is detected and reported.
-                out.push(if scheme == PlateScheme::StormerVerlet {
+                out.push(if scheme == PlateScheme::StormerVerletExact {
                     case.may_diverge()
                 } else {
                     case

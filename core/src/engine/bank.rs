@@ -12,11 +12,9 @@ use super::resample::Resampler;
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{PlateData, PlateVoice, StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
-use crate::modal::{
-    default_cache_dir, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
-};
-use crate::modal_rect::{RectModes, RectSpec};
-use crate::models::plate::voice::tensor_from_triplets;
+pub use crate::models::plate::basis::ModalCache;
+use crate::models::plate::basis::{BasisKey, PlateBasis};
+use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
 use crate::models::string::params::Stiffness;
 use crate::models::string::{
@@ -41,26 +39,6 @@ pub const STRING_VELOCITY_REF: f64 = 4.0;
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
 
-/// A cached rectangle: (aspect bits, N_Φ, N_Ψ), modes, tensor.
-type RectEntry = ((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>);
-
-/// Dimensionless modal data kept between builds on the worker thread (a bank rebuilt for a
-/// new strike position reuses the basis and tensor of the previous one).
-#[derive(Default)]
-pub struct ModalCache {
-    circular: Option<(CircularPlateSpec, Arc<PlateModes>, Arc<CouplingTensor>)>,
-    rect: Option<RectEntry>,
-}
-
-impl std::fmt::Debug for ModalCache {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("ModalCache")
-            .field("circular", &self.circular.as_ref().map(|c| c.0))
-            .field("rect", &self.rect.as_ref().map(|r| r.0))
-            .finish()
-    }
-}
-
 /// A bank of voices for one parameter set and host rate.
 pub(crate) struct Bank {
     /// Identifier (increments with every build).
@@ -84,67 +62,24 @@ pub(crate) struct Bank {
     pub norm: f64,
 }
 
-fn rect_key(aspect: f64, nf: usize, np: usize) -> (u64, usize, usize) {
-    (aspect.to_bits(), nf, np)
-}
-
-impl ModalCache {
-    fn circular(
-        &mut self,
-        spec: CircularPlateSpec,
-    ) -> Result<(Arc<PlateModes>, Arc<CouplingTensor>), ParamError> {
-        if let Some((s, m, c)) = &self.circular {
-            if *s == spec {
-                return Ok((m.clone(), c.clone()));
-            }
+/// `Φ_s` of every mode of `basis` at the polar parameter pair `(r, angle)`: circular plates
+/// read it as it is; rectangles as `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the
+/// sides).
+fn phi_values(kind: ModelKind, basis: &PlateBasis, r: f64, angle: f64) -> Vec<f64> {
+    let at = if kind == ModelKind::RectPlate {
+        Position {
+            x: Some(0.5 + 0.5 * r * angle.cos()),
+            y: Some(0.5 + 0.5 * r * angle.sin()),
+            ..Position::default()
         }
-        let (modes, _) = PlateModes::load_or_build(&spec, &default_cache_dir())?;
-        let coupling = Arc::new(modes.coupling.clone());
-        let modes = Arc::new(modes);
-        self.circular = Some((spec, modes.clone(), coupling.clone()));
-        Ok((modes, coupling))
-    }
-
-    fn rect(
-        &mut self,
-        aspect: f64,
-        nf: usize,
-        np: usize,
-    ) -> Result<(Arc<RectModes>, Arc<CouplingTensor>), ParamError> {
-        let key = rect_key(aspect, nf, np);
-        if let Some((k, m, c)) = &self.rect {
-            if *k == key {
-                return Ok((m.clone(), c.clone()));
-            }
+    } else {
+        Position {
+            r: Some(r),
+            angle: Some(angle),
+            ..Position::default()
         }
-        let modes = RectModes::build(&RectSpec::new(aspect, nf, np))
-            .map_err(|e| ParamError::new("modes", nf, format!("a buildable basis ({e})")))?;
-        let coupling = Arc::new(tensor_from_triplets(&modes.coupling)?);
-        let modes = Arc::new(modes);
-        self.rect = Some((key, modes.clone(), coupling.clone()));
-        Ok((modes, coupling))
-    }
-}
-
-/// Unit-plate position of a polar parameter pair: circular `(r, θ)`; rectangle
-/// `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the sides).
-fn phi_values(
-    kind: ModelKind,
-    circ: Option<&PlateModes>,
-    rect: Option<&RectModes>,
-    n: usize,
-    r: f64,
-    angle: f64,
-) -> Vec<f64> {
-    (0..n)
-        .map(|s| match (kind, circ, rect) {
-            (ModelKind::RectPlate, _, Some(m)) => {
-                m.phi_at(s, 0.5 + 0.5 * r * angle.cos(), 0.5 + 0.5 * r * angle.sin())
-            }
-            (_, Some(m), _) => m.phi_at(s, r, angle),
-            _ => 0.0,
-        })
-        .collect()
+    };
+    basis.phi_all(&at)
 }
 
 impl Bank {
@@ -166,34 +101,17 @@ impl Bank {
             norm = 1.0 / PLATE_VELOCITY_REF;
             let n_psi = v.index_of(ParamId::InPlaneModes);
             let m = Material::from_params(v);
-            let (lambda2, zeta4, coupling, circ, rect) = match kind {
-                ModelKind::RectPlate => {
-                    let aspect = v.get(ParamId::Aspect) as f64;
-                    let (rm, c) = cache.rect(aspect, modes, n_psi.max(1))?;
-                    (rm.lambda2.clone(), rm.zeta4.clone(), c, None, Some(rm))
-                }
-                _ => {
-                    let edge = if kind == ModelKind::Gong {
-                        CircularEdge::Free
-                    } else {
-                        CircularEdge::Clamped
-                    };
-                    let spec = CircularPlateSpec::new(edge, m.poisson, modes, n_psi.max(1), None)?;
-                    let (pm, c) = cache.circular(spec)?;
-                    (pm.omega.clone(), pm.zeta4.clone(), c, Some(pm), None)
-                }
+            let shape = match kind {
+                ModelKind::RectPlate => PlateShape::RectSs,
+                ModelKind::Cymbal => PlateShape::CircularClamped,
+                _ => PlateShape::CircularFree,
             };
-            let nf = lambda2.len();
-            let pv = |r: ParamId, a: ParamId| {
-                phi_values(
-                    kind,
-                    circ.as_deref(),
-                    rect.as_deref(),
-                    nf,
-                    v.get(r) as f64,
-                    v.get(a) as f64,
-                )
-            };
+            let aspect = v.get(ParamId::Aspect) as f64;
+            let key = BasisKey::new(shape, m.poisson, aspect, modes, n_psi, Symmetry::Full)?;
+            let basis = cache.basis(&key)?;
+            let nf = basis.n_phi();
+            let pv =
+                |r: ParamId, a: ParamId| phi_values(kind, &basis, v.get(r) as f64, v.get(a) as f64);
             let mut snapshot = Vec::with_capacity(SNAPSHOT_POINTS * nf);
             for p in 0..SNAPSHOT_POINTS {
                 // Along a diameter (circular) or the diagonal (rectangle), ends excluded.
@@ -208,14 +126,7 @@ impl Bank {
                 };
                 // Rectangle: ξ = η = ½ + ½ x (the diagonal), since r √2 · cos(π/4) = |x|.
                 let ang = ang * std::f64::consts::PI;
-                snapshot.extend(phi_values(
-                    kind,
-                    circ.as_deref(),
-                    rect.as_deref(),
-                    nf,
-                    r,
-                    ang,
-                ));
+                snapshot.extend(phi_values(kind, &basis, r, ang));
             }
             let data = Arc::new(PlateData {
                 strike: pv(ParamId::StrikeRadius, ParamId::StrikeAngle),
@@ -225,8 +136,8 @@ impl Bank {
                 ],
                 snapshot,
                 linear: n_psi == 0,
-                lambda2,
-                zeta4,
+                lambda2: basis.lambda2.clone(),
+                zeta4: basis.zeta4.clone(),
                 poisson: m.poisson,
             });
             let scheme = match v.index_of(ParamId::Scheme) {
@@ -253,8 +164,12 @@ impl Bank {
                     Pickup::new(data.pickups[0].clone(), PickupKind::VelocityBackward)?,
                     Pickup::new(data.pickups[1].clone(), PickupKind::VelocityBackward)?,
                 ];
-                let model =
-                    PlateModel::new(&params, coupling.clone(), data.strike.clone(), pickups)?;
+                let model = PlateModel::new(
+                    &params,
+                    basis.coupling.clone(),
+                    data.strike.clone(),
+                    pickups,
+                )?;
                 voices.push(Voice::new(VoiceModel::Plate(Box::new(PlateVoice::new(
                     model,
                     data.clone(),

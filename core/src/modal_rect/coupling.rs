@@ -19,6 +19,8 @@
 use super::airy::AiryModes;
 use super::beam::ClampedBasis1d;
 use super::legendre::gauss_legendre;
+use crate::error::ParamError;
+use crate::modal::CouplingTensor;
 use rayon::prelude::*;
 use std::f64::consts::PI;
 
@@ -45,6 +47,26 @@ pub struct CouplingTriplets {
 }
 
 impl CouplingTriplets {
+    /// The same entries in the run layout every plate scheme streams (rows by `l`, entries
+    /// sorted by `i`, then `j ≤ i`, as the triplets already are). Worker thread; allocates.
+    pub fn to_tensor(&self) -> Result<CouplingTensor, ParamError> {
+        let mut row_start = vec![0u32; self.n_psi + 1];
+        for &l in &self.l {
+            row_start[l as usize + 1] += 1;
+        }
+        for l in 0..self.n_psi {
+            row_start[l + 1] += row_start[l];
+        }
+        CouplingTensor::from_parts(
+            self.n_phi,
+            self.n_psi,
+            row_start,
+            self.i.clone(),
+            self.j.clone(),
+            self.value.clone(),
+        )
+    }
+
     /// Number of stored entries.
     pub fn len(&self) -> usize {
         self.value.len()

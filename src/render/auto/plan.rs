@@ -69,7 +69,7 @@ pub fn estimated_cost(s: &ModelSize) -> f64 {
 
 /// Whether a scheme's linear part is exact (no dispersion, no stability bound).
 fn exact_linear(scheme: PlateScheme) -> bool {
-    !matches!(scheme, PlateScheme::Conservative)
+    !matches!(scheme, PlateScheme::ConservativeTheta1)
 }
 
 /// The lowest rate `scene_rate / m` (integer `m`, integer result when the scene's rate is an

@@ -87,6 +87,7 @@
 //! Threads: everything is built on a worker thread; [`PlateModel::step`] and
 //! [`PlateModel::process`] run on the audio thread without allocating.
 
+pub mod basis;
 pub mod coupling;
 pub mod energy;
 pub mod excitation;

@@ -9,27 +9,43 @@ use crate::error::{check_non_negative, check_positive, ParamError};
 /// Time scheme of the plate model (see the module documentation of [`super`]).
 ///
 /// Plain `Copy` data, chosen on the control/worker thread at build time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+/// Spelled in scenes and presets as `conservative`, `conservative-exact`, `stormer-verlet` and
+/// `sav` ([`PlateScheme::name`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum PlateScheme {
     /// Conservative linearly implicit scheme with the θ = 1 linear part
     /// `δ_tt q_s + ω_s² q_s + c_s δ_{t.} q_s` (Bilbao, Thomas, Touzé, Ducceschi, NMPDE 2015;
     /// SEED 3.1). Energy conserved to round-off; stable iff `h ω_max < 2`.
+    #[serde(rename = "conservative")]
     ConservativeTheta1,
     /// Conservative linearly implicit scheme with the exact (damped) modal linear part
     /// (SEED 1.2 / 3.2), written as a θ = 1 scheme with effective `ω̃_s`, `c̃_s`. Modified energy
     /// conserved to round-off; no stability limit on `h` from the linear part.
+    #[serde(rename = "conservative-exact")]
     ConservativeExact,
     /// Explicit Störmer-Verlet treatment of the nonlinearity (in-plane amplitudes from `q(n)`
     /// only) with the exact linear part, as in the lecture's gong code. NOT energy conserving.
+    #[serde(rename = "stormer-verlet")]
     StormerVerletExact,
     /// Explicit energy-quadratised (scalar auxiliary variable) scheme with the exact linear part
     /// (Bilbao, Ducceschi, Zama, J. Comput. Phys. 2023; see `sav.rs`): a rank-one
     /// (Sherman-Morrison) update per step, no linear solve. Modified energy
     /// `t + v + ψ²/2` conserved to round-off; stable for every `h` (away from `ω_s h = kπ`).
+    #[serde(rename = "sav")]
     SavExact,
 }
 
 impl PlateScheme {
+    /// The scheme's name in scenes, presets and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::ConservativeTheta1 => "conservative",
+            Self::ConservativeExact => "conservative-exact",
+            Self::StormerVerletExact => "stormer-verlet",
+            Self::SavExact => "sav",
+        }
+    }
+
     /// Whether the linear part is the exact modal scheme (`ω̃_s`, `c̃_s`) rather than θ = 1.
     pub fn exact_linear_part(self) -> bool {
         !matches!(self, Self::ConservativeTheta1)

@@ -23,21 +23,8 @@ impl PlateShape {
     }
 }
 
-/// Time scheme of the plate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum PlateScheme {
-    /// The lecture's energy-conserving linearly implicit scheme, θ = 1 linear part
-    /// (stable iff `fs > π f_max`).
-    Conservative,
-    /// The energy-conserving scheme with the exact linear part (no stability limit from it).
-    ConservativeExact,
-    /// Störmer-Verlet with the exact linear part: explicit, cheap, NOT energy conserving.
-    StormerVerlet,
-    /// Explicit energy-quadratised (scalar auxiliary variable) scheme, exact linear part:
-    /// conserves a modified energy, no linear solve (`scheme = "sav"`).
-    Sav,
-}
+/// Time scheme of the plate (`plate.scheme`): the model's own enumeration.
+pub use super::params::PlateScheme;
 
 /// Which motions a circular plate's modal basis represents (`plate.symmetry`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]

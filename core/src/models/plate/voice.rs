@@ -7,17 +7,13 @@
 //! `coupling_scale = a⁻⁵`). Size, thickness and material therefore change only these scalars:
 //! the dimensionless basis and tensor are reused as they are.
 
+use super::basis::{BasisKey, ModalCache};
 use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
-use super::spec::PlateScheme as SceneScheme;
-use super::spec::{Damping, Excitation, PlateShape, PlateSpec, Position, Quantity, Symmetry};
-use super::{LinearSolve, PlateModel, PlateParams, PlateScheme};
+use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
+use super::{LinearSolve, PlateModel, PlateParams};
 use crate::error::ParamError;
-use crate::modal::{
-    default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
-};
-use crate::modal_rect::{CouplingTriplets, RectModes, RectSpec};
+use crate::modal::CouplingTensor;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
-use std::sync::Arc;
 
 /// The force applied at the excitation point, sample by sample.
 #[derive(Debug, Clone, Copy)]
@@ -41,35 +37,8 @@ pub struct PlateVoice {
     info: PlateDetails,
 }
 
-/// Dimensionless modal data of a plate: `λ²` (Φ), `ζ⁴` (Ψ), the coupling tensor, the mode
-/// evaluator `Φ_s` at a scene position, and what the cache did.
-type ModalData = (Vec<f64>, Vec<f64>, CouplingTensor, ModeEvaluator, String);
-
-/// `Φ_s(position)` of the unit-size plate.
-type ModeEvaluator = Box<dyn Fn(usize, &Position) -> f64>;
-
 fn map_err(e: ParamError) -> String {
     e.to_string()
-}
-
-/// Converts the rectangle's triplet list (sorted by `l`, then `i`, then `j ≤ i`) to the
-/// streaming CSR layout the time stepper reads (also used by the engine's bank builder).
-pub(crate) fn tensor_from_triplets(t: &CouplingTriplets) -> Result<CouplingTensor, ParamError> {
-    let mut row_start = vec![0u32; t.n_psi + 1];
-    for &l in &t.l {
-        row_start[l as usize + 1] += 1;
-    }
-    for l in 0..t.n_psi {
-        row_start[l + 1] += row_start[l];
-    }
-    CouplingTensor::from_parts(
-        t.n_phi,
-        t.n_psi,
-        row_start,
-        t.i.clone(),
-        t.j.clone(),
-        t.value.clone(),
-    )
 }
 
 impl PlateVoice {
@@ -79,65 +48,37 @@ impl PlateVoice {
         let start = std::time::Instant::now();
         let nu = scene.material.poisson;
         let linear_only = scene.n_psi == 0;
-        let (lambda2, zeta4, coupling, phi_at, cache): ModalData = match scene.shape {
-            PlateShape::CircularFree | PlateShape::CircularClamped => {
-                let edge = if scene.shape == PlateShape::CircularFree {
-                    CircularEdge::Free
-                } else {
-                    CircularEdge::Clamped
-                };
-                let mut spec =
-                    CircularPlateSpec::new(edge, nu, scene.n_phi, scene.n_psi.max(1), None)
-                        .map_err(|e| format!("plate: {e}"))?;
-                // The mirror basis lives in the frame where the strike is at θ = 0: every
-                // position's angle is taken relative to the strike's.
-                let theta0 = if scene.symmetry == Symmetry::StrikeMirror {
-                    spec = spec.mirror_symmetric();
-                    excitation_angle(&scene.excitation)
-                } else {
-                    0.0
-                };
-                let (modes, outcome) =
-                    PlateModes::load_or_build(&spec, &default_cache_dir()).map_err(map_err)?;
-                let cache = match outcome {
-                    CacheOutcome::Hit => "hit".to_string(),
-                    CacheOutcome::Built => "built and saved".to_string(),
-                    CacheOutcome::Rebuilt(why) => format!("rebuilt ({why})"),
-                    CacheOutcome::NotSaved(why) => format!("built, not saved ({why})"),
-                };
-                let modes = Arc::new(modes);
-                let m2 = modes.clone();
-                let phi = Box::new(move |s: usize, p: &Position| {
-                    m2.phi_at(s, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0) - theta0)
-                });
-                (
-                    modes.omega.clone(),
-                    modes.zeta4.clone(),
-                    modes.coupling.clone(),
-                    phi,
-                    cache,
-                )
-            }
-            PlateShape::RectSs => {
-                let (lx, ly) = (scene.lx.unwrap_or(1.0), scene.ly.unwrap_or(1.0));
-                let spec = RectSpec::new(ly / lx, scene.n_phi, scene.n_psi.max(1));
-                let modes = Arc::new(RectModes::build(&spec).map_err(|e| format!("plate: {e}"))?);
-                let coupling = tensor_from_triplets(&modes.coupling).map_err(map_err)?;
-                let m2 = modes.clone();
-                let phi = Box::new(move |s: usize, p: &Position| {
-                    m2.phi_at(s, p.x.unwrap_or(0.5), p.y.unwrap_or(0.5))
-                });
-                // The rectangle builds in about a second, faster than reading its tensor
-                // back from disk, so it is not cached.
-                (
-                    modes.lambda2.clone(),
-                    modes.zeta4.clone(),
-                    coupling,
-                    phi,
-                    "not cached (built directly)".to_string(),
-                )
-            }
+        let aspect = scene.ly.unwrap_or(1.0) / scene.lx.unwrap_or(1.0);
+        let key = BasisKey::new(
+            scene.shape,
+            nu,
+            aspect,
+            scene.n_phi,
+            scene.n_psi,
+            scene.symmetry,
+        )
+        .map_err(|e| format!("plate: {e}"))?;
+        let basis = ModalCache::default().basis(&key).map_err(map_err)?;
+        // The mirror basis lives in the frame where the strike is at θ = 0: every position's
+        // angle is taken relative to the strike's.
+        let theta0 = if scene.shape.is_circular() && scene.symmetry == Symmetry::StrikeMirror {
+            excitation_angle(&scene.excitation)
+        } else {
+            0.0
         };
+        let phi_at = |s: usize, p: &Position| {
+            let in_frame = if scene.shape.is_circular() {
+                Position {
+                    angle: Some(p.angle.unwrap_or(0.0) - theta0),
+                    ..*p
+                }
+            } else {
+                *p
+            };
+            basis.phi_at(s, &in_frame)
+        };
+        let (lambda2, zeta4) = (&basis.lambda2, &basis.zeta4);
+        let cache = basis.cache.clone();
         let modal_seconds = start.elapsed().as_secs_f64();
         let a = scene.length_scale();
         let omega_scale = (scene.rigidity() / scene.surface_density()).sqrt() / (a * a);
@@ -148,12 +89,7 @@ impl PlateVoice {
             Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
             Damping::T60 { seconds } => vec![2.0 * 1000f64.ln() / seconds; omega.len()],
         };
-        let scheme = match scene.scheme {
-            SceneScheme::Conservative => PlateScheme::ConservativeTheta1,
-            SceneScheme::ConservativeExact => PlateScheme::ConservativeExact,
-            SceneScheme::StormerVerlet => PlateScheme::StormerVerletExact,
-            SceneScheme::Sav => PlateScheme::SavExact,
-        };
+        let scheme = scene.scheme;
         let params = PlateParams {
             omega: omega.clone(),
             zeta4: zeta4.iter().map(|z| z / a.powi(4)).collect(),
@@ -203,7 +139,7 @@ impl PlateVoice {
             })
             .collect::<Result<Vec<_>, _>>()
             .map_err(map_err)?;
-        let nnz = coupling.nnz();
+        let nnz = basis.coupling.nnz();
         let strike_weights = weights(&at);
         // A Dirac impulse J at x0 is the initial velocity q̇_s(0) = J Φ_s(x0) / ρh.
         let initial_state: Option<(Vec<f64>, Vec<f64>)> = match scene.excitation {
@@ -227,7 +163,7 @@ impl PlateVoice {
             }
             Excitation::Strike { .. } => None,
         };
-        let mut model = PlateModel::new(&params, Arc::new(coupling), strike_weights, pickups)
+        let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(|e| format!("plate: {e}"))?;
         if let Some((q0, v0)) = initial_state {
             model.set_state(&q0, &v0).map_err(map_err)?;
@@ -241,13 +177,7 @@ impl PlateVoice {
             tensor_nonzeros: if linear_only { 0 } else { nnz },
             cache,
             modal_seconds,
-            scheme: match scene.scheme {
-                SceneScheme::Conservative => "conservative",
-                SceneScheme::ConservativeExact => "conservative-exact",
-                SceneScheme::StormerVerlet => "stormer-verlet",
-                SceneScheme::Sav => "sav",
-            }
-            .into(),
+            scheme: scene.scheme.name().into(),
             symmetry: match scene.symmetry {
                 Symmetry::Full => "full",
                 Symmetry::StrikeMirror => "strike-mirror",

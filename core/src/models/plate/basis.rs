@@ -1,0 +1,194 @@
+//! The one place a plate's dimensionless modal data are obtained, for scenes and the engine
+//! alike: transverse `λ²` and in-plane `ζ⁴` of the unit plate, the coupling tensor, and the
+//! mode shapes at a point, for circular (free or clamped, full or strike-mirror basis) and
+//! simply supported rectangular plates.
+//!
+//! Circular bases come from the on-disk cache of [`crate::modal`]; a [`ModalCache`] also keeps
+//! the last circular and rectangular basis in memory, so a worker that rebuilds voices for a
+//! new position or material reuses them. Worker or main thread (allocates, may take seconds).
+
+use super::spec::{PlateShape, Position, Symmetry};
+use crate::error::ParamError;
+use crate::modal::{
+    default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
+};
+use crate::modal_rect::{RectModes, RectSpec};
+use std::sync::Arc;
+
+/// What selects a basis: the shape's modal problem and the mode counts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum BasisKey {
+    /// A circular plate (edge, Poisson ratio, counts, full or mirror subspace).
+    Circular(CircularPlateSpec),
+    /// A simply supported rectangle with aspect `ly/lx`, `N_Φ` and `N_Ψ`.
+    Rect {
+        /// `ly / lx`.
+        aspect: f64,
+        /// Transverse modes.
+        n_phi: usize,
+        /// In-plane modes (≥ 1).
+        n_psi: usize,
+    },
+}
+
+impl BasisKey {
+    /// The key of `shape` with Poisson ratio `nu` (circular plates), aspect `ly/lx`
+    /// (rectangles), `n_phi` transverse and `n_psi` in-plane modes (0 is built as 1: a linear
+    /// plate ignores the tensor) and the modal subspace.
+    pub fn new(
+        shape: PlateShape,
+        nu: f64,
+        aspect: f64,
+        n_phi: usize,
+        n_psi: usize,
+        symmetry: Symmetry,
+    ) -> Result<Self, ParamError> {
+        Ok(match shape {
+            PlateShape::CircularFree | PlateShape::CircularClamped => {
+                let edge = if shape == PlateShape::CircularFree {
+                    CircularEdge::Free
+                } else {
+                    CircularEdge::Clamped
+                };
+                let spec = CircularPlateSpec::new(edge, nu, n_phi, n_psi.max(1), None)?;
+                BasisKey::Circular(match symmetry {
+                    Symmetry::Full => spec,
+                    Symmetry::StrikeMirror => spec.mirror_symmetric(),
+                })
+            }
+            PlateShape::RectSs => BasisKey::Rect {
+                aspect,
+                n_phi,
+                n_psi: n_psi.max(1),
+            },
+        })
+    }
+}
+
+/// The mode shapes behind a basis.
+#[derive(Debug, Clone)]
+enum Shapes {
+    Circular(Arc<PlateModes>),
+    Rect(Arc<RectModes>),
+}
+
+/// Dimensionless modal data of a plate of unit size (`a = 1` or `lx = 1`, `D = ρh = 1`).
+///
+/// Read-only once built; shared (`Arc`) between the voices of a bank.
+#[derive(Debug, Clone)]
+pub struct PlateBasis {
+    /// `λ_s²` of each transverse mode (`ω_s = λ_s² √(D/ρh) / a²`).
+    pub lambda2: Vec<f64>,
+    /// `ζ_l⁴` of each in-plane mode.
+    pub zeta4: Vec<f64>,
+    /// The coupling tensor `Ĥ^l_{i,j}`.
+    pub coupling: Arc<CouplingTensor>,
+    /// What the caches did (`hit`, `built and saved`, `memory`, ...), for reports.
+    pub cache: String,
+    shapes: Shapes,
+}
+
+impl PlateBasis {
+    /// `Φ_s` of the unit plate at `p`: `(r, angle)` on circular plates, the angle in the
+    /// basis's own frame (a mirror basis has its strike at angle 0); `(x, y)` as fractions of
+    /// the sides on rectangles. Missing coordinates read as 0 (r, angle) or ½ (x, y).
+    pub fn phi_at(&self, mode: usize, p: &Position) -> f64 {
+        match &self.shapes {
+            Shapes::Circular(m) => m.phi_at(mode, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0)),
+            Shapes::Rect(m) => m.phi_at(mode, p.x.unwrap_or(0.5), p.y.unwrap_or(0.5)),
+        }
+    }
+
+    /// `Φ_s(p)` of every transverse mode.
+    pub fn phi_all(&self, p: &Position) -> Vec<f64> {
+        (0..self.lambda2.len()).map(|s| self.phi_at(s, p)).collect()
+    }
+
+    /// Number of transverse modes.
+    pub fn n_phi(&self) -> usize {
+        self.lambda2.len()
+    }
+}
+
+/// A rectangle kept in memory: (aspect bits, N_Φ, N_Ψ), modes, tensor.
+type RectEntry = ((u64, usize, usize), Arc<RectModes>, Arc<CouplingTensor>);
+
+/// The last circular and rectangular basis built, kept in memory between builds (worker
+/// thread). A fresh cache still reads circular bases from the disk cache.
+#[derive(Default)]
+pub struct ModalCache {
+    circular: Option<(CircularPlateSpec, Arc<PlateModes>, Arc<CouplingTensor>)>,
+    rect: Option<RectEntry>,
+}
+
+impl std::fmt::Debug for ModalCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ModalCache")
+            .field("circular", &self.circular.as_ref().map(|c| c.0))
+            .field("rect", &self.rect.as_ref().map(|r| r.0))
+            .finish()
+    }
+}
+
+impl ModalCache {
+    /// The basis for `key`: from memory when it is the last one built for its shape, else from
+    /// the disk cache (circular) or computed (rectangles build faster than their tensor reads
+    /// back, so they are not cached on disk).
+    pub fn basis(&mut self, key: &BasisKey) -> Result<PlateBasis, ParamError> {
+        match *key {
+            BasisKey::Circular(spec) => {
+                let (modes, coupling, cache) = match &self.circular {
+                    Some((s, m, c)) if *s == spec => (m.clone(), c.clone(), "memory".to_string()),
+                    _ => {
+                        let (modes, outcome) =
+                            PlateModes::load_or_build(&spec, &default_cache_dir())?;
+                        let cache = match outcome {
+                            CacheOutcome::Hit => "hit".to_string(),
+                            CacheOutcome::Built => "built and saved".to_string(),
+                            CacheOutcome::Rebuilt(why) => format!("rebuilt ({why})"),
+                            CacheOutcome::NotSaved(why) => format!("built, not saved ({why})"),
+                        };
+                        let coupling = Arc::new(modes.coupling.clone());
+                        let modes = Arc::new(modes);
+                        self.circular = Some((spec, modes.clone(), coupling.clone()));
+                        (modes, coupling, cache)
+                    }
+                };
+                Ok(PlateBasis {
+                    lambda2: modes.omega.clone(),
+                    zeta4: modes.zeta4.clone(),
+                    coupling,
+                    cache,
+                    shapes: Shapes::Circular(modes),
+                })
+            }
+            BasisKey::Rect {
+                aspect,
+                n_phi,
+                n_psi,
+            } => {
+                let k = (aspect.to_bits(), n_phi, n_psi);
+                let (modes, coupling, cache) = match &self.rect {
+                    Some((kk, m, c)) if *kk == k => (m.clone(), c.clone(), "memory".to_string()),
+                    _ => {
+                        let modes = RectModes::build(&RectSpec::new(aspect, n_phi, n_psi))
+                            .map_err(|e| {
+                                ParamError::new("modes", n_phi, format!("a buildable basis ({e})"))
+                            })?;
+                        let coupling = Arc::new(modes.coupling.to_tensor()?);
+                        let modes = Arc::new(modes);
+                        self.rect = Some((k, modes.clone(), coupling.clone()));
+                        (modes, coupling, "not cached (built directly)".to_string())
+                    }
+                };
+                Ok(PlateBasis {
+                    lambda2: modes.lambda2.clone(),
+                    zeta4: modes.zeta4.clone(),
+                    coupling,
+                    cache,
+                    shapes: Shapes::Rect(modes),
+                })
+            }
+        }
+    }
+}
