@@ -289,16 +289,16 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), String> {
         .map_err(|e| format!("writing {}: {e}", json_path.display()))?;
     let png_path = stem.with_extension("png");
     write_figure(&png_path, study)?;
-    println!(
+    eprintln!(
         "reference: {} ({:.2} s wall, balance error {:.2e})",
         study.reference, study.reference_wall_seconds, study.reference_energy_balance_error
     );
-    println!(
+    eprintln!(
         "{:>20} {:>10} {:>12} {:>10} {:>12} {:>12}",
         study.vary, "wall (s)", "L2 (50 ms)", "LSD (dB)", "partials (¢)", "balance err"
     );
     for r in &study.rows {
-        println!(
+        eprintln!(
             "{:>20} {:>10.3} {:>12.3e} {:>10.3} {:>12} {:>12.2e}",
             r.setting,
             r.wall_seconds,
@@ -309,7 +309,7 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), String> {
         );
     }
     for p in [&csv_path, &json_path, &png_path] {
-        println!("  wrote {}", p.display());
+        eprintln!("  wrote {}", p.display());
     }
     Ok(())
 }

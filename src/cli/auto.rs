@@ -37,7 +37,7 @@ pub struct AutoArgs {
 
 /// Prints the summary of a selection (shared with `noether render`).
 pub fn print_summary(r: &AutoReport) {
-    println!(
+    eprintln!(
         "  auto: {} of full {} ({}), LSD {:.4} dB (tolerance {} dB), L2(50 ms) {:.3e}, over {} s",
         r.chosen.label(),
         r.full.label(),
@@ -51,7 +51,7 @@ pub fn print_summary(r: &AutoReport) {
         r.l2_50ms,
         r.excerpt_seconds
     );
-    println!(
+    eprintln!(
         "  auto: excerpt wall {:.3} s full -> {:.3} s chosen (speed-up {:.2}); {} candidates tried, {} untried; selection took {:.2} s",
         r.full_wall_seconds,
         r.chosen_wall_seconds,
@@ -90,19 +90,19 @@ pub fn run(a: AutoArgs) -> Result<(), String> {
     let scene = Scene::load(&a.scene, &set).map_err(|e| e.to_string())?;
     let (report, reduced) = select(&scene, |l| eprintln!("  {l}"))?;
     for r in &report.reasons {
-        println!("  - {r}");
+        eprintln!("  - {r}");
     }
     print_summary(&report);
     if let Some(path) = &a.write {
         let text = reduced_toml(&reduced, &report, &a.scene.display().to_string())?;
         std::fs::write(path, text).map_err(|e| format!("writing {}: {e}", path.display()))?;
-        println!("  wrote {}", path.display());
+        eprintln!("  wrote {}", path.display());
     }
     if let Some(path) = &a.report {
         let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
         std::fs::write(path, json + "\n")
             .map_err(|e| format!("writing {}: {e}", path.display()))?;
-        println!("  wrote {}", path.display());
+        eprintln!("  wrote {}", path.display());
     }
     Ok(())
 }

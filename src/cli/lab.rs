@@ -280,10 +280,10 @@ pub fn run_all_figures(dir: &Path) -> Result<(), String> {
         no_files: false,
     };
     for fig in figures::all() {
-        println!("== {}: {}", fig.name, fig.caption);
+        eprintln!("== {}: {}", fig.name, fig.caption);
         run_figure(&fig, &out)?;
     }
-    println!("figures written to {}", dir.display());
+    eprintln!("figures written to {}", dir.display());
     Ok(())
 }
 
@@ -311,7 +311,7 @@ fn emit(trace: &Trace, summary: &Summary, out: &OutArgs, stem: &str) -> Result<(
         let written = write_report(&out.out, stem, trace, summary)?;
         if !out.json {
             for f in written.files {
-                println!("  wrote {}", f.display());
+                eprintln!("  wrote {}", f.display());
             }
         }
     }

@@ -83,7 +83,7 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     std::fs::write(&report_path, json + "\n")
         .map_err(|e| format!("writing {}: {e}", report_path.display()))?;
-    println!(
+    eprintln!(
         "{}: {} s, scheme {}, N_phi = {}, N_psi = {}, sim {} Hz -> {} Hz",
         report.scene,
         report.seconds,
@@ -93,14 +93,14 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         report.sim_rate,
         report.sample_rate
     );
-    println!(
+    eprintln!(
         "  energy: max {:.4e} J, drift {:.3e}, balance error {:.3e} (relative to max); nan {}",
         report.energy.max,
         report.energy.max_rel_drift,
         report.energy.max_balance_error,
         report.nan_count
     );
-    println!(
+    eprintln!(
         "  peak {:.4e}, wall {:.2} s, real-time factor {:.3}",
         report.peak, report.wall_seconds, report.realtime_factor
     );
@@ -108,7 +108,7 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         super::auto::print_summary(r);
     }
     if let Some(c) = &report.contact {
-        println!(
+        eprintln!(
             "  contact: max penetration {:.3e} m, Newton max {} iterations, {} failures (cap {}), histogram {:?}",
             c.max_penetration,
             c.newton_max_iterations,
@@ -117,7 +117,7 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
             c.newton_histogram
         );
     }
-    println!("  wrote {} and {}", wav.display(), report_path.display());
+    eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.plot {
         // Show up to 4x the highest modelled frequency: the cascade spreads energy upwards.
         let f_max = report
@@ -133,7 +133,7 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
             scene.output.sample_rate,
             4.0 * f_max,
         )? {
-            println!("  wrote {}", p.display());
+            eprintln!("  wrote {}", p.display());
         }
     }
     if report.nan_count > 0 {
