@@ -5,12 +5,15 @@
 //! the audio thread reads every value once per block ([`SharedParams::snapshot`]); the
 //! engine's worker thread reads the values that trigger a rebuild.
 //!
-//! Values are stored in their physical units (the `unit` column). Enumerations and integers
-//! are stored as `f32` holding an integer (`Model` 0..=4 and so on). [`SharedParams::set`]
+//! Ranges of physical quantities come from the one table [`crate::models::ranges`] (the
+//! instrument's playable part of each). Values are stored in their physical units (the `unit`
+//! column). Enumerations and integers are stored as `f32` holding an integer (`Model` 0..=4
+//! and so on). [`SharedParams::set`]
 //! refuses out-of-range or non-finite values with a [`ParamError`] naming the parameter, the
 //! value and the range: the host layer clamps and reports, the engine never clamps silently.
 
 use crate::error::ParamError;
+use crate::models::ranges as r;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
 /// How a parameter's value is interpreted (for host and GUI layers).
@@ -123,35 +126,35 @@ const INT: ParamKind = ParamKind::Int;
 params! {
     Model, "model", "Model", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MODEL_NAMES }, true,
         "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura.";
-    Size, "size", "Size", "m", 0.05, 3.0, 0.4, LOG, false,
+    Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false,
         "Plates: radius (circular) or the side lx (rectangle), a rescale; strings: length, which rebuilds the grid.";
-    Thickness, "thickness", "Thickness", "m", 1.0e-4, 1.0e-2, 1.0e-3, LOG, false,
+    Thickness, "thickness", "Thickness", "m", r::PLATE_THICKNESS.play_min as f32, r::PLATE_THICKNESS.play_max as f32, 1.0e-3, LOG, false,
         "Plate thickness h (plates only); pitch f is proportional to h / a^2.";
-    Aspect, "aspect", "Aspect ratio", "", 0.2, 5.0, 1.5, F, true,
+    Aspect, "aspect", "Aspect ratio", "", r::PLATE_ASPECT.play_min as f32, r::PLATE_ASPECT.play_max as f32, 1.5, F, true,
         "Rectangular plate: ly / lx (new modal basis).";
     Material, "material", "Material", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MATERIAL_NAMES }, true,
         "Plate material preset; 'custom' uses Young's modulus, density and Poisson ratio below.";
-    YoungsModulus, "youngs_modulus", "Young's modulus", "Pa", 1.0e9, 5.0e11, 2.0e11, LOG, false,
+    YoungsModulus, "youngs_modulus", "Young's modulus", "Pa", r::YOUNGS_MODULUS.play_min as f32, r::YOUNGS_MODULUS.play_max as f32, 2.0e11, LOG, false,
         "E of the custom material (plates).";
-    Density, "density", "Density", "kg/m^3", 500.0, 25000.0, 7860.0, LOG, false,
+    Density, "density", "Density", "kg/m^3", r::DENSITY.play_min as f32, r::DENSITY.play_max as f32, 7860.0, LOG, false,
         "rho of the custom material (plates).";
-    Poisson, "poisson", "Poisson ratio", "", 0.1, 0.45, 0.3, F, true,
+    Poisson, "poisson", "Poisson ratio", "", r::POISSON.play_min as f32, r::POISSON.play_max as f32, 0.3, F, true,
         "nu of the custom material (plates; the free-edge basis depends on it).";
     DampingScale, "damping_scale", "Damping", "", 0.0, 20.0, 1.0, F, false,
         "Multiplies every modal damping coefficient (0: lossless). Plates: the power law below; strings: Issanchou/Valette losses.";
-    DampingA, "damping_a", "Damping a", "s^(b-1)", 0.0, 1.0, 0.005, F, false,
+    DampingA, "damping_a", "Damping a", "s^(b-1)", r::DAMPING_A.play_min as f32, r::DAMPING_A.play_max as f32, 0.005, F, false,
         "Plate damping law c_s = a omega_s^b + c0: coefficient a.";
-    DampingB, "damping_b", "Damping b", "", 0.0, 2.0, 0.6, F, false,
+    DampingB, "damping_b", "Damping b", "", r::DAMPING_B.play_min as f32, r::DAMPING_B.play_max as f32, 0.6, F, false,
         "Plate damping law exponent b.";
-    DampingC0, "damping_c0", "Damping c0", "1/s", 0.0, 100.0, 0.0, F, false,
+    DampingC0, "damping_c0", "Damping c0", "1/s", r::DAMPING_C0.play_min as f32, r::DAMPING_C0.play_max as f32, 0.0, F, false,
         "Plate damping law constant c0.";
     StrikeRadius, "strike_radius", "Strike position", "", 0.0, 0.99, 0.92, F, true,
         "Plate strike point: fraction of the radius (circular) or of the half-diagonal from the centre (rectangle).";
     StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, true,
         "Plate strike point: polar angle.";
-    StrikeDuration, "strike_duration", "Strike duration", "s", 1.0e-4, 0.05, 0.01, LOG, false,
+    StrikeDuration, "strike_duration", "Strike duration", "s", r::STRIKE_DURATION.play_min as f32, r::STRIKE_DURATION.play_max as f32, 0.01, LOG, false,
         "Raised-cosine strike length (mallet hardness: shorter is harder); plates.";
-    StrikeForce, "strike_force", "Strike force", "N", 0.01, 1000.0, 40.0, LOG, false,
+    StrikeForce, "strike_force", "Strike force", "N", r::STRIKE_FORCE.play_min as f32, r::STRIKE_FORCE.play_max as f32, 40.0, LOG, false,
         "Peak strike force at velocity 1 (plates).";
     VelocityCurve, "velocity_curve", "Velocity curve", "", 0.0, 4.0, 1.0, F, false,
         "Force (or pluck amplitude) = value at velocity 1 times velocity^curve.";
@@ -163,29 +166,29 @@ params! {
         "Right output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
     PickupRightAngle, "pickup_right_angle", "Right pickup angle", "rad", 0.0, 6.2831855, 2.5, F, true,
         "Right output point: polar angle (plates).";
-    Tension, "tension", "Tension", "N", 1.0, 2000.0, 180.5, LOG, false,
+    Tension, "tension", "Tension", "N", r::STRING_TENSION.play_min as f32, r::STRING_TENSION.play_max as f32, 180.5, LOG, false,
         "String tension T at the root key (strings).";
-    LinearDensity, "linear_density", "Linear density", "kg/m", 1.0e-4, 0.05, 1.17e-3, LOG, true,
+    LinearDensity, "linear_density", "Linear density", "kg/m", r::STRING_LINEAR_DENSITY.play_min as f32, r::STRING_LINEAR_DENSITY.play_max as f32, 1.17e-3, LOG, true,
         "String linear mass density mu (strings).";
-    Inharmonicity, "inharmonicity", "Inharmonicity B", "", 0.0, 1.0e-3, 2.0e-5, F, false,
+    Inharmonicity, "inharmonicity", "Inharmonicity B", "", r::STRING_INHARMONICITY.play_min as f32, r::STRING_INHARMONICITY.play_max as f32, 2.0e-5, F, false,
         "String inharmonicity B = pi^2 EI / (T L^2) at the root key (strings; 0: ideal string).";
-    BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", 0.0, 50.0, 1.0, F, true,
+    BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", r::BRIDGE_CURVATURE.play_min as f32, r::BRIDGE_CURVATURE.play_max as f32, 1.0, F, true,
         "Sitar bridge g(x) = -curvature x^2 near x = 0 (the lecture's a).";
     BridgePosition, "bridge_position", "Bridge position", "m", 1.0e-3, 0.1, 6.0e-3, LOG, true,
         "Tanpura: distance of the point bridge from the end; sitar: length of the curved bridge.";
-    ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", 1.0e3, 1.0e16, 1.0e13, LOG, true,
+    ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", r::CONTACT_STIFFNESS.play_min as f32, r::CONTACT_STIFFNESS.play_max as f32, 1.0e13, LOG, true,
         "Penalty contact law K [eta]_+^alpha (strings).";
-    ContactAlpha, "contact_alpha", "Contact exponent alpha", "", 1.0, 4.0, 1.5, F, true,
+    ContactAlpha, "contact_alpha", "Contact exponent alpha", "", r::CONTACT_EXPONENT.play_min as f32, r::CONTACT_EXPONENT.play_max as f32, 1.5, F, true,
         "Penalty contact exponent (strings).";
     PluckPosition, "pluck_position", "Pluck position", "", 0.02, 0.98, 0.25, F, false,
         "Triangular pluck apex as a fraction of the length (strings).";
-    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", 1.0e-5, 5.0e-3, 1.0e-3, LOG, false,
+    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false,
         "Triangular pluck apex displacement at velocity 1 (strings).";
-    Modes, "modes", "Modes", "", 4.0, 400.0, 50.0, INT, true,
+    Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 50.0, INT, true,
         "Quality: transverse modes N_Phi (plates) or string modes N - 1 (strings).";
-    InPlaneModes, "in_plane_modes", "In-plane modes", "", 0.0, 200.0, 15.0, INT, true,
+    InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true,
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
-    SimRate, "sim_rate", "Simulation rate", "Hz", 8000.0, 400000.0, 32000.0, LOG, true,
+    SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 32000.0, LOG, true,
         "Quality: the models' own time-step rate; resampled to the host rate.";
     Scheme, "scheme", "Scheme", "", 0.0, 3.0, 1.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
         "Quality: plate time scheme.";

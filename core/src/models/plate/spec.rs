@@ -1,7 +1,8 @@
 //! The `[plate]` table of a scene: geometry, material, modes, scheme, losses, excitation,
 //! pickups.
 
-use crate::error::{check_closed, check_non_negative, ParamError};
+use crate::error::{check_closed, ParamError};
+use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
 
 /// Plate geometry and boundary conditions.
@@ -271,25 +272,25 @@ impl PlateSpec {
                 let v = v.ok_or_else(|| {
                     ParamError::new(name, "missing", "0.01 to 10 m for rectangular plates")
                 })?;
-                check_closed(name, v, 0.01, 10.0)?;
+                PLATE_SIZE.check(name, v)?;
             }
         }
-        check_closed("plate.thickness", self.thickness, 1e-5, 0.1)?;
-        check_closed(
+        PLATE_THICKNESS.check("plate.thickness", self.thickness)?;
+        YOUNGS_MODULUS.check(
             "plate.material.youngs_modulus",
             self.material.youngs_modulus,
-            1e6,
-            1e13,
         )?;
-        check_closed("plate.material.density", self.material.density, 10.0, 1e5)?;
-        check_closed("plate.material.poisson", self.material.poisson, 0.0, 0.5)?;
-        if !(1..=4000).contains(&self.n_phi) {
-            return Err(ParamError::new("plate.n_phi", self.n_phi, "1 to 4000"));
+        DENSITY.check("plate.material.density", self.material.density)?;
+        POISSON.check("plate.material.poisson", self.material.poisson)?;
+        for (field, n, r) in [
+            ("plate.n_phi", self.n_phi, PLATE_MODES),
+            ("plate.n_psi", self.n_psi, PLATE_IN_PLANE_MODES),
+        ] {
+            if !(r.min..=r.max).contains(&(n as f64)) {
+                return Err(ParamError::new(field, n, format!("{} to {}", r.min, r.max)));
+            }
         }
-        if self.n_psi > 4000 {
-            return Err(ParamError::new("plate.n_psi", self.n_psi, "0 to 4000"));
-        }
-        check_closed("plate.sim_rate", self.sim_rate, 1e3, 4e6)?;
+        PLATE_SIM_RATE.check("plate.sim_rate", self.sim_rate)?;
         if self.symmetry == Symmetry::StrikeMirror && !self.shape.is_circular() {
             return Err(ParamError::new(
                 "plate.symmetry",
@@ -300,9 +301,9 @@ impl PlateSpec {
         match self.damping {
             Damping::None => {}
             Damping::Power { a, b, c0 } => {
-                check_non_negative("plate.damping.a", a)?;
-                check_closed("plate.damping.b", b, 0.0, 2.0)?;
-                check_non_negative("plate.damping.c0", c0)?;
+                DAMPING_A.check("plate.damping.a", a)?;
+                DAMPING_B.check("plate.damping.b", b)?;
+                DAMPING_C0.check("plate.damping.c0", c0)?;
             }
             Damping::Q { q } => {
                 check_closed("plate.damping.q", q, 1.0, 1e7)?;
@@ -318,8 +319,8 @@ impl PlateSpec {
                 peak_force,
             } => {
                 at.validate(self.shape, "plate.excitation.at")?;
-                check_closed("plate.excitation.duration", duration, 1e-5, 0.1)?;
-                check_closed("plate.excitation.peak_force", peak_force, 0.0, 1e6)?;
+                STRIKE_DURATION.check("plate.excitation.duration", duration)?;
+                STRIKE_FORCE.check("plate.excitation.peak_force", peak_force)?;
             }
             Excitation::Impulse { at, impulse } => {
                 at.validate(self.shape, "plate.excitation.at")?;

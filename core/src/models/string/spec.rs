@@ -5,6 +5,7 @@
 //! the model's [`StringConfig`] (no audio-thread use).
 
 use crate::error::{check_closed, check_non_negative, ParamError};
+use crate::models::ranges::*;
 use crate::models::string::{
     ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity as ModelQuantity,
     Readout as ModelReadout, SitarBridge, Stiffness, StrikeForce, StringConfig, StringParams,
@@ -259,13 +260,13 @@ fn scoped(mut e: ParamError) -> ParamError {
 impl StringSpec {
     /// Checks every field's range; errors name the dotted field (`string.tension`, ...).
     pub fn validate(&self) -> Result<(), ParamError> {
-        let l = check_closed("string.length", self.length, 0.01, 100.0)?;
+        let l = STRING_LENGTH.check("string.length", self.length)?;
         check_closed("string.diameter", self.diameter, 0.0, 0.1)?;
-        check_closed("string.tension", self.tension, 1e-3, 1e6)?;
-        check_closed("string.linear_density", self.linear_density, 1e-6, 100.0)?;
+        STRING_TENSION.check("string.tension", self.tension)?;
+        STRING_LINEAR_DENSITY.check("string.linear_density", self.linear_density)?;
         match (self.inharmonicity, self.bending_stiffness) {
             (Some(b), None) => {
-                check_closed("string.inharmonicity", b, 0.0, 1.0)?;
+                STRING_INHARMONICITY.check("string.inharmonicity", b)?;
             }
             (None, Some(ei)) => {
                 check_closed("string.bending_stiffness", ei, 0.0, 1e6)?;
@@ -292,7 +293,7 @@ impl StringSpec {
                 format!("1 to {MAX_MODES}"),
             ));
         }
-        check_closed("string.sim_rate", self.sim_rate, 1e3, 1e7)?;
+        STRING_SIM_RATE.check("string.sim_rate", self.sim_rate)?;
         let inside = |field: &str, x: f64| {
             if x.is_finite() && x > 0.0 && x < l {
                 Ok(())
@@ -354,7 +355,7 @@ impl StringSpec {
                 extent,
             } => {
                 check_closed("string.obstacle.position", *position, 0.0, l)?;
-                check_closed("string.obstacle.curvature", *curvature, -1e4, 1e4)?;
+                BRIDGE_CURVATURE.check("string.obstacle.curvature", *curvature)?;
                 check_closed("string.obstacle.height", *height, -0.1, 0.1)?;
                 inside("string.obstacle.extent", *extent)?;
             }
@@ -384,13 +385,8 @@ impl StringSpec {
                 }
             }
         }
-        check_closed(
-            "string.contact.stiffness",
-            self.contact.stiffness,
-            1.0,
-            1e18,
-        )?;
-        check_closed("string.contact.exponent", self.contact.exponent, 1.0, 10.0)?;
+        CONTACT_STIFFNESS.check("string.contact.stiffness", self.contact.stiffness)?;
+        CONTACT_EXPONENT.check("string.contact.exponent", self.contact.exponent)?;
         self.scheme()?;
         match self.excitation {
             StringExcitation::Pluck {
@@ -398,7 +394,7 @@ impl StringSpec {
                 amplitude,
             } => {
                 inside("string.excitation.position", position)?;
-                check_closed("string.excitation.amplitude", amplitude, -0.05, 0.05)?;
+                PLUCK_AMPLITUDE.check("string.excitation.amplitude", amplitude)?;
             }
             StringExcitation::Strike {
                 position,
