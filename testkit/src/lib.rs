@@ -3,7 +3,12 @@
 //! Test tools shared by Noether's test suites and examples (a dev-dependency; nothing here runs
 //! in the product):
 //!
-//! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/soak.rs`,
+//! - [`alloc`]: the test binaries' global allocator (`assert_no_alloc`'s, with a per-thread
+//!   allocation counter);
+//! - [`env`]: the process environment the tests share (the modal cache directory, set once);
+//! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/robustness`,
 //!   `examples/soak.rs`).
 
+pub mod alloc;
+pub mod env;
 pub mod soak;
