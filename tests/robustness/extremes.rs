@@ -10,10 +10,7 @@
 use noether::stress::{self, Density, Status};
 
 fn sweep(cases: Vec<stress::Case>, what: &str) {
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     let start = std::time::Instant::now();
     let (outcomes, summary) = stress::run(cases, |_, _| {});
     eprintln!(

@@ -24,9 +24,9 @@ use noether::scene::{Scene, SceneError};
 use proptest::prelude::*;
 
 const BASES: &[&str] = &[
-    include_str!("../assets/scenes/gong.toml"),
-    include_str!("../assets/scenes/seed-rect-energy.toml"),
-    include_str!("../assets/scenes/seed-gong-40N.toml"),
+    include_str!("../../assets/scenes/gong.toml"),
+    include_str!("../../assets/scenes/seed-rect-energy.toml"),
+    include_str!("../../assets/scenes/seed-gong-40N.toml"),
 ];
 
 /// Field paths the overrides aim at: every scene field, plus unknown ones.
@@ -172,10 +172,7 @@ fn build_and_step(scene: &Scene) -> Result<(), TestCaseError> {
 /// the voice build whenever its mutations leave a valid scene.
 #[test]
 fn small_base_scenes_build() {
-    std::env::set_var(
-        "NOETHER_CACHE",
-        std::env::temp_dir().join("noether-test-cache"),
-    );
+    noether_testkit::env::test_cache_dir();
     let o = ["plate.n_phi=12".to_string(), "plate.n_psi=6".to_string()];
     for base in BASES {
         let scene = Scene::from_toml(base, "base.toml", &o).unwrap();
@@ -195,7 +192,7 @@ proptest! {
         truncate in prop::option::of(0.0f64..1.0),
         garbage in prop::option::of((0.0f64..1.0, any::<u8>())),
     ) {
-        std::env::set_var("NOETHER_CACHE", std::env::temp_dir().join("noether-test-cache"));
+        noether_testkit::env::test_cache_dir();
         let mut text: String = BASES[base]
             .lines()
             .enumerate()

@@ -11,14 +11,11 @@
 //! 30 s, or a failed activation. The block time over its real-time duration is printed, not
 //! asserted (the machine is shared). The longer run: `cargo run --release --example soak`.
 
-use assert_no_alloc::{assert_no_alloc, AllocDisabler};
+use assert_no_alloc::assert_no_alloc;
 use noether::engine::{Engine, ParamId, Preset, SharedParams, VOICE_CEILING};
 use noether_testkit::soak::{self, SoakConfig};
 use std::sync::Arc;
 use std::time::Duration;
-
-#[global_allocator]
-static A: AllocDisabler = AllocDisabler;
 
 #[test]
 fn soak_under_load() {

@@ -13,33 +13,7 @@ use noether::schemes::ndof::{
     SystemSpec, METHOD_NAMES,
 };
 
-/// Global allocator that counts allocations made by the current thread, so that a test can
-/// assert `step` never allocates (tests run on parallel threads; the counter is per thread).
-struct CountingAlloc;
-
-thread_local! {
-    static ALLOCATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
-}
-
-unsafe impl std::alloc::GlobalAlloc for CountingAlloc {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        // `try_with`: the thread-local may already be torn down at thread exit.
-        let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
-        // SAFETY: forwarded unchanged to the system allocator.
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        // SAFETY: `ptr` came from `System.alloc` with this layout.
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: CountingAlloc = CountingAlloc;
-
-fn allocations() -> u64 {
-    ALLOCATIONS.with(|c| c.get())
-}
+use noether_testkit::alloc::allocations;
 
 /// One row of the harness: a factory name and what the literature says about the method.
 struct Case {

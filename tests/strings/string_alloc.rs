@@ -1,51 +1,19 @@
 //! The string model's real-time methods (`set_contact_scheme`, `pluck`, `strike`, `reset`,
-//! `process`, `energy`) must not allocate, under both contact schemes (Newton and quadratised): a counting global allocator (this test binary only) counts allocations made
-//! by the current thread while armed. Fails on any allocation, so it cannot pass vacuously
-//! (the arming is checked with a deliberate `Vec` allocation first).
+//! `process`, `energy`) must not allocate, under both contact schemes (Newton and quadratised):
+//! the test binary's global allocator (`noether_testkit::alloc::Guard`) counts allocations made
+//! by the current thread. Fails on any allocation, so it cannot pass vacuously (the counter is
+//! checked with a deliberate `Vec` allocation first).
 
 use noether::models::string::{
     ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
     StiffString, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
-struct Counting;
-
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
-thread_local! {
-    static ARMED: Cell<bool> = const { Cell::new(false) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if ARMED.with(|a| a.get()) {
-            ALLOCS.fetch_add(1, Ordering::SeqCst);
-        }
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        if ARMED.with(|a| a.get()) {
-            ALLOCS.fetch_add(1, Ordering::SeqCst);
-        }
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
+/// Allocations made by the current thread while `f` runs (the binary's global allocator is
+/// `noether_testkit::alloc::Guard`).
 fn counted(f: impl FnOnce()) -> usize {
-    let before = ALLOCS.load(Ordering::SeqCst);
-    ARMED.with(|a| a.set(true));
-    f();
-    ARMED.with(|a| a.set(false));
-    ALLOCS.load(Ordering::SeqCst) - before
+    noether_testkit::alloc::count_allocations(f).1 as usize
 }
 
 #[test]

@@ -83,9 +83,9 @@ pub struct SoakConfig {
 }
 
 impl SoakConfig {
-    /// The bounded soak of `cargo test` (`tests/soak.rs`): `duration` of wall time, up to 40
-    /// modes, 10 in-plane modes, 8 voices, simulation rates up to 400 kHz, budget 40 modes ×
-    /// 4 voices × 48 kHz.
+    /// The bounded soak of `cargo test` (`tests/robustness/soak.rs`): `duration` of wall time,
+    /// up to 40 modes, 10 in-plane modes, 8 voices, simulation rates up to 400 kHz, budget 40
+    /// modes × 4 voices × 48 kHz.
     pub fn quick(seed: u64, duration: Duration) -> Self {
         Self {
             seed,

@@ -1,0 +1,10 @@
+//! The real-time engine: voices, banks, parameters, presets, and `assert_no_alloc` around
+//! `Engine::process`.
+
+/// Every test binary shares one global allocator: `assert_no_alloc`'s, with a per-thread
+/// allocation counter (`noether_testkit::alloc`).
+#[global_allocator]
+static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
+
+mod engine;
+mod engine_alloc;

@@ -1,0 +1,11 @@
+//! The offline side: scene files and assets, `quality = auto`, preset accuracy.
+
+/// Every test binary shares one global allocator: `assert_no_alloc`'s, with a per-thread
+/// allocation counter (`noether_testkit::alloc`).
+#[global_allocator]
+static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
+
+mod auto;
+mod preset_accuracy;
+mod scene_assets;
+mod scene_errors;

@@ -1,0 +1,13 @@
+//! Stiff strings against obstacles: the model, its SAV contact, the rows path, renders and the
+//! real-time methods' allocation check.
+
+/// Every test binary shares one global allocator: `assert_no_alloc`'s, with a per-thread
+/// allocation counter (`noether_testkit::alloc`).
+#[global_allocator]
+static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
+
+mod string_alloc;
+mod string_model;
+mod string_render;
+mod string_rows;
+mod string_sav;
