@@ -8,6 +8,7 @@
 //! Lifecycle of every stepper: build (validates parameters, allocates), `reset` (sets initial
 //! conditions, no allocation), `step` (no allocation, bounded work).
 
+pub mod closed_form;
 pub mod duffing;
 pub mod exact;
 pub mod impact;
