@@ -20,8 +20,8 @@
 //! one per available core); allocates.
 
 use super::angular::{factors, Parity};
-use super::basis::Mode;
 use super::coupling::CouplingTensor;
+use super::modes::Mode;
 use super::quadrature::GaussLegendre;
 use crate::error::ParamError;
 use std::sync::atomic::{AtomicUsize, Ordering};

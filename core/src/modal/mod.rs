@@ -7,6 +7,8 @@
 //! `λ² · omega_scale(a, h, E, ρ, ν)` ([`basis::omega_scale`]).
 //!
 //! - [`basis`]: [`PlateModes`] (modes, eigenvalues, tensor, `phi_at`) and [`CircularPlateSpec`];
+//! - [`modes`]: the circular plate's modes ([`Mode`]) enumerated in frequency order
+//!   ([`circular_modes`]);
 //! - [`circular`]: characteristic equations and radial profiles (Leissa 1969);
 //! - [`coupling`]: the geometry-independent sparse tensor [`CouplingTensor`] and its
 //!   allocation-free kernels (`contract_eta`, `apply_force`, `coupling_matrix`,
@@ -34,12 +36,12 @@ pub mod circular;
 pub mod coupling;
 mod coupling_blocks;
 mod coupling_runs;
+pub mod modes;
 pub mod quadrature;
 
 pub use angular::Parity;
-pub use basis::{
-    circular_modes, circular_modes_with, omega_scale, CircularPlateSpec, Mode, PlateModes,
-};
+pub use basis::{omega_scale, CircularPlateSpec, PlateModes};
 pub use cache::{default_cache_dir, CacheOutcome};
 pub use circular::{CircularEdge, RadialFunction};
 pub use coupling::CouplingTensor;
+pub use modes::{circular_modes, circular_modes_with, Mode};
