@@ -5,17 +5,17 @@
 //!
 //! Runs on the thread that selects the model (CLI main thread); allocates.
 
+use super::size::ModelSize;
 use super::spectrum::{band_of, count_below, mirror_in_plane_count, strike_band, transverse};
-use super::ModelSize;
 use crate::scene::plate::{Excitation, PlateScheme, PlateSpec, Symmetry};
 use crate::scene::Scene;
+
+pub use super::ladder::{divisor_rate, Candidate, Plan, HEARING_LIMIT};
 
 /// Fractions of the heard transverse band tried (of `min(f_max, f_hear)`).
 pub const BAND_FRACTIONS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 /// Fractions of the full model's in-plane mode count tried.
 pub const PSI_FRACTIONS: [f64; 3] = [1.0 / 6.0, 1.0 / 3.0, 1.0];
-/// Highest frequency anyone hears (Hz).
-pub const HEARING_LIMIT: f64 = 20_000.0;
 /// Simulation steps per strike length required by the rate rule (`fs ≥ 20 / T`).
 pub const STEPS_PER_STRIKE: f64 = 20.0;
 /// Simulation steps per period of the highest mode kept (`fs ≥ 4 f_max`).
@@ -26,36 +26,6 @@ pub const STEPS_PER_PERIOD: f64 = 4.0;
 const DENSITY_FULL: f64 = 0.064;
 /// As [`DENSITY_FULL`], for the strike-mirror basis.
 const DENSITY_MIRROR: f64 = 0.118;
-
-/// One reduced model to verify.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Candidate {
-    /// Its sizes and rate.
-    pub size: ModelSize,
-    /// Fraction of the heard band its transverse modes cover (1: all of it); for a string,
-    /// its top mode over the heard band, `f_max / f_hear` (at least 1 when it covers it).
-    pub band_fraction: f64,
-    /// Fraction of the full in-plane count it keeps (1 for a string).
-    pub psi_fraction: f64,
-    /// Estimated work per simulated second, `fs (N_Φ + nnz)`, `nnz` estimated from the
-    /// tensor densities of the default gong (ordering only; the verification measures time).
-    pub estimated_cost: f64,
-}
-
-/// The ladder and why it looks as it does.
-#[derive(Debug, Clone)]
-pub struct Plan {
-    /// The scene's own model (the reference).
-    pub full: ModelSize,
-    /// The basis symmetry every candidate uses.
-    pub symmetry: Symmetry,
-    /// Heard band `min(output Nyquist, 20 kHz)` (Hz).
-    pub f_hear: f64,
-    /// Reasons, one sentence per choice.
-    pub reasons: Vec<String>,
-    /// Candidates, cheapest (estimated) first; the full model is not among them.
-    pub candidates: Vec<Candidate>,
-}
 
 /// Estimated work per simulated second (see [`Candidate::estimated_cost`]).
 pub fn estimated_cost(s: &ModelSize) -> f64 {
@@ -70,23 +40,6 @@ pub fn estimated_cost(s: &ModelSize) -> f64 {
 /// Whether a scheme's linear part is exact (no dispersion, no stability bound).
 fn exact_linear(scheme: PlateScheme) -> bool {
     !matches!(scheme, PlateScheme::ConservativeTheta1)
-}
-
-/// The lowest rate `scene_rate / m` (integer `m`, integer result when the scene's rate is an
-/// integer, at least 1 kHz) that is at least `need`; the scene's rate when none is lower.
-pub fn divisor_rate(scene_rate: f64, need: f64) -> f64 {
-    let integral = scene_rate.fract() == 0.0;
-    let mut best = scene_rate;
-    for m in 2..=64u32 {
-        let r = scene_rate / f64::from(m);
-        if r < need || r < 1_000.0 {
-            break;
-        }
-        if !integral || (scene_rate as u64) % u64::from(m) == 0 {
-            best = r;
-        }
-    }
-    best
 }
 
 /// Decides the symmetry and returns it with its reason.

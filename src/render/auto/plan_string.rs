@@ -7,8 +7,8 @@
 //!
 //! Runs on the thread that selects the model (CLI main thread); allocates.
 
-use super::plan::{divisor_rate, Candidate, Plan, HEARING_LIMIT};
-use super::{string_size, ModelSize};
+use super::ladder::{divisor_rate, Candidate, Plan, HEARING_LIMIT};
+use super::size::{string_size, ModelSize};
 use crate::models::string::StringParams;
 use crate::scene::plate::Symmetry;
 use crate::scene::Scene;
