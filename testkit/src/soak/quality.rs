@@ -11,7 +11,9 @@
 
 use super::draw::Draw;
 use super::SoakConfig;
-use noether_core::engine::{ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS};
+use noether_core::engine::{
+    Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS,
+};
 use noether_core::ParamError;
 
 /// The properties of a voice bank the engine reports, which a burst's final step sets.
@@ -35,6 +37,15 @@ impl std::fmt::Display for Signature {
             self.polyphony
         )
     }
+}
+
+/// The signature of the bank `e` uses (`None` before the first bank).
+pub(super) fn signature(e: &Engine) -> Option<Signature> {
+    Some(Signature {
+        model: e.model()?,
+        sim_rate: e.sim_rate()?,
+        polyphony: e.polyphony(),
+    })
 }
 
 /// The parameters of a burst's final step (the signature and the quality).

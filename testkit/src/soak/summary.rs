@@ -4,7 +4,7 @@
 //! Threads: driver thread (plain data).
 
 use super::draw::StormCounts;
-use super::quality::Signature;
+use super::quality::{signature, Signature};
 use super::SoakConfig;
 use noether_core::engine::{Engine, EngineHandle, ModelKind};
 use std::fmt;
@@ -148,7 +148,7 @@ impl SoakSummary {
             seconds: spent.as_secs_f64(),
             len: n,
             host_rate: rate,
-            bank: super::signature(e),
+            bank: signature(e),
             active: e.active_voices(),
         };
         self.worst.offer(b);
