@@ -4,7 +4,8 @@
 //! integrators, after C. Touzé's lecture "Intégrateurs temporels numériques conservatifs pour la
 //! dynamique non linéaire" (2016; digest in `docs/SEED.md`).
 //!
-//! Layers, each depending only on those above it:
+//! Layers, each depending only on those above it (checked, with the absence of import cycles
+//! between files, by `scripts/check-layers.py`):
 //!
 //! - [`error`]: the parameter error type every constructor returns;
 //! - [`schemes`]: time steppers for one oscillator (θ-family, exact, Duffing, impact) and for
@@ -12,8 +13,8 @@
 //!   Gauss methods);
 //! - [`analysis`]: closed-form solutions, the schemes' dispersion, frequency and energy-drift
 //!   measurements;
-//! - [`modal`], [`modal_rect`]: dimensionless modal bases of plates (Φ, Ψ) and their coupling
-//!   tensors with the streaming kernels;
+//! - [`modal`], then [`modal_rect`] (which uses `modal`'s tensor and quadrature): dimensionless
+//!   modal bases of plates (Φ, Ψ) and their coupling tensors with the streaming kernels;
 //! - [`models`]: the instrument models (modal von Kármán plate, stiff string with contact), their
 //!   typed specifications (`spec`) and the [`models::source::RenderSource`] trait;
 //! - [`engine`]: the real-time engine (voices, banks built on a worker thread, parameters,
