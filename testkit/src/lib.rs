@@ -3,6 +3,8 @@
 //! Test tools shared by Noether's test suites and examples (a dev-dependency; nothing here runs
 //! in the product):
 //!
+//! - [`harness`]: the model × scheme catalogue and the one run every case goes through
+//!   (finiteness, power balance to a stated tolerance, no allocation in the step);
 //! - [`alloc`]: the test binaries' global allocator (`assert_no_alloc`'s, with a per-thread
 //!   allocation counter);
 //! - [`env`]: the process environment the tests share (the modal cache directory, set once);
@@ -11,4 +13,5 @@
 
 pub mod alloc;
 pub mod env;
+pub mod harness;
 pub mod soak;

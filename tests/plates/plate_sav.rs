@@ -1,16 +1,16 @@
-//! The explicit energy-quadratised plate scheme (`PlateScheme::SavExact`, `src/models/plate/sav.rs`):
-//! conserved modified energy, unconditional stability, linear limit, convergence order, and
-//! agreement with the lecture's conservative scheme. The harness shared with every scheme
-//! (power balance with losses and forcing, impulse, no allocation, Duffing backbone) is in
-//! `plate_scheme.rs`. Figures are printed with `--nocapture`.
+//! The explicit energy-quadratised plate scheme (`PlateScheme::SavExact`,
+//! `core/src/models/plate/sav.rs`): unconditional stability, linear limit, convergence order,
+//! and agreement with the lecture's conservative scheme. The conservation of its modified energy
+//! (lossless, and with losses and a strike, on the three plate shapes) is the catalogue's
+//! (`tests/schemes/catalogue.rs`); the impulse, no-allocation and Duffing-backbone tests shared
+//! with every scheme are in `plate_scheme.rs`. Figures are printed with `--nocapture`.
 
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use noether::modal::{CircularEdge, CircularPlateSpec, PlateModes};
 use noether::models::plate::{
-    DenseCoupling, LinearSolve, ModalCoupling, Pickup, PickupKind, PlateModel, PlateParams,
-    PlateScheme, RaisedCosine,
+    DenseCoupling, LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme,
+    RaisedCosine,
 };
 
 /// SplitMix64: deterministic uniform numbers in [-1, 1).
@@ -122,35 +122,6 @@ fn max_abs(a: &[f64]) -> f64 {
     a.iter().map(|x| x.abs()).fold(0.0, f64::max)
 }
 
-/// Lossless, unforced, in-plane energy ≥ 50 % of the total at start, 10⁵ steps at 10 kHz:
-/// the modified energy `t + v + ψ²/2` drifts by less than 1e-10 of itself. Why 1e-10: the
-/// identity is exact for any state, so only round-off accumulates (~1e-16 per step as a
-/// random walk, ~1e-13 after 10⁵ steps): three orders of margin, and far below the drift of
-/// Störmer-Verlet on the same cases (> 1e-8, `plate_scheme.rs`).
-#[test]
-fn modified_energy_is_conserved_to_round_off() {
-    for (i, &(n_phi, n_psi)) in [(12, 6), (8, 14)].iter().enumerate() {
-        let seed = 11 + i as u64;
-        let p = params(n_phi, n_psi, seed, 10_000.0, PlateScheme::SavExact);
-        let mut probe = model(
-            &params(n_phi, n_psi, seed, 10_000.0, PlateScheme::ConservativeExact),
-            seed,
-        );
-        let (q0, v0) = state(&mut probe, seed, 0.5);
-        let mut m = model(&p, seed);
-        m.set_state(&q0, &v0).unwrap();
-        let e0 = m.energy().total();
-        assert!(m.energy().nonlinear / e0 > 0.3, "{:?}", m.energy());
-        let mut drift = 0.0f64;
-        for _ in 0..100_000 {
-            m.step(0.0).unwrap();
-            drift = drift.max((m.energy().total() - e0).abs() / e0);
-        }
-        eprintln!("[SAV] N_Φ={n_phi} N_Ψ={n_psi}: relative drift over 1e5 steps {drift:.2e}");
-        assert!(drift < 1e-10, "{drift}");
-    }
-}
-
 /// Unconditional stability: at fs = 600 Hz (ω_max h ≈ 2.1 > 2, where θ = 1 is refused) and
 /// with in-plane energy 95 % of the total (stiffened frequencies far above Nyquist), 10⁴
 /// steps stay finite and |q| stays bounded by the energy: `t + v` is positive definite, so
@@ -159,7 +130,8 @@ fn modified_energy_is_conserved_to_round_off() {
 /// here to 1e-6 (measured 1.2e-8): the Sherman-Morrison denominator `1 + β gᵀA⁻¹g` is huge at
 /// this stiffness and the rank-one correction cancels most of the solved vector, which costs
 /// round-off relative to that vector; solving for the increment `q(n+1) - q(n-1)` keeps it
-/// small (4e-6 when the step solved for `q(n+1)`); exactness at resolved rates is tested above.
+/// small (4e-6 when the step solved for `q(n+1)`); exactness at resolved rates is the
+/// catalogue's (`tests/schemes/catalogue.rs`).
 /// Störmer-Verlet on the same start blows up (checked, so the case really tests stability).
 #[test]
 fn stable_at_large_steps_and_strong_nonlinearity() {
@@ -326,56 +298,4 @@ fn agrees_with_the_conservative_scheme() {
     let (d1, d2) = (diff(40_000.0), diff(80_000.0));
     eprintln!("[SAV vs conservative] relative difference {d1:.3e} at 40 kHz, {d2:.3e} at 80 kHz");
     assert!(d1 < 1e-2 && (3.2..=4.8).contains(&(d1 / d2)), "{d1} {d2}");
-}
-
-/// On the real gong tensor (circular free plate, Bessel modes, sparse storage; a = 0.4 m,
-/// h = 1 mm steel, 60 transverse and 20 in-plane modes, 40 kHz), lossless, started from a
-/// strike-like velocity field scaled to make the in-plane energy about a third of the total:
-/// 2·10⁴ steps keep the modified energy to 1e-10 (the same round-off argument as above).
-#[test]
-fn gong_tensor_energy_is_conserved() {
-    let (a, hh, e, rho, nu) = (0.4f64, 1e-3f64, 2e11, 7860.0, 0.3);
-    let spec = CircularPlateSpec::new(CircularEdge::Free, nu, 60, 20, None).unwrap();
-    let modes = PlateModes::build(&spec).unwrap();
-    let d = e * hh.powi(3) / (12.0 * (1.0 - nu * nu));
-    let w_scale = (d / (rho * hh)).sqrt() / (a * a);
-    let coupling: Arc<dyn ModalCoupling> = Arc::new(modes.coupling.clone());
-    let p = PlateParams {
-        omega: modes.omega.iter().map(|l| l * w_scale).collect(),
-        zeta4: modes.zeta4.iter().map(|z| z / a.powi(4)).collect(),
-        rho_h: rho * hh,
-        e_h: e * hh,
-        coupling_scale: a.powi(-5),
-        fs: 40_000.0,
-        damping: vec![0.0; 60],
-        scheme: PlateScheme::SavExact,
-        solve: LinearSolve::Auto,
-    };
-    let mut m: PlateModel = PlateModel::new(&p, coupling, vec![0.0; 60], vec![]).unwrap();
-    let dir = Rng(5).vec(60);
-    let mut amp = 1e-8;
-    loop {
-        let v0: Vec<f64> = dir.iter().map(|x| amp * x).collect();
-        m.set_state(&vec![0.0; 60], &v0).unwrap();
-        m.step(0.0).unwrap();
-        let mut share = 0.0f64;
-        for _ in 0..400 {
-            m.step(0.0).unwrap();
-            share = share.max(m.energy().nonlinear / m.energy().total());
-        }
-        if share > 0.3 || amp > 1e3 {
-            assert!(share > 0.3, "no amplitude reached a 30 % in-plane share");
-            m.set_state(&vec![0.0; 60], &v0).unwrap();
-            break;
-        }
-        amp *= 1.5;
-    }
-    let e0 = m.energy().total();
-    let mut drift = 0.0f64;
-    for _ in 0..20_000 {
-        m.step(0.0).unwrap();
-        drift = drift.max((m.energy().total() - e0).abs() / e0);
-    }
-    eprintln!("[SAV] gong 60x20: relative drift over 2e4 steps {drift:.2e}");
-    assert!(drift < 1e-10, "{drift}");
 }

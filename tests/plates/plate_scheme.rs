@@ -1,5 +1,7 @@
-//! Energy, power balance, solver, exactness and backbone tests of the modal plate schemes
-//! (`noether::models::plate`), with one shared harness over the four schemes (SAV-specific tests in `plate_sav.rs`).
+//! Solver, exactness, impulse, `process` and backbone tests of the modal plate schemes
+//! (`noether::models::plate`) on random plates, over the four schemes (SAV-specific tests in
+//! `plate_sav.rs`). Energy conservation and the power balance with losses and forcing, for
+//! every scheme on real plates, are the catalogue's (`tests/schemes/catalogue.rs`).
 //!
 //! Figures are printed with `--nocapture` for the report.
 
@@ -13,7 +15,7 @@ use noether::models::plate::{
 };
 use noether_testkit::alloc::allocations;
 
-// ---------------------------------------------------------------- shared harness
+// ---------------------------------------------------------------- random plates
 
 const ALL: [PlateScheme; 4] = [
     PlateScheme::ConservativeTheta1,
@@ -117,38 +119,6 @@ impl Case {
     }
 }
 
-/// Outcome of a run: largest deviations of the stored energy and of the balance, relative to
-/// the largest stored energy seen.
-#[derive(Debug, Clone, Copy)]
-struct Run {
-    energy_drift: f64,
-    balance_error: f64,
-    min_u_share: f64,
-    dissipated: f64,
-    work: f64,
-}
-
-fn run(model: &mut PlateModel<DenseCoupling>, steps: usize, force: impl Fn(usize) -> f64) -> Run {
-    let e0 = model.energy();
-    let (mut de, mut db, mut emax, mut umin) = (0.0f64, 0.0f64, e0.total(), 1.0f64);
-    for n in 0..steps {
-        model.step(force(n)).unwrap();
-        let e = model.energy();
-        de = de.max((e.total() - e0.total()).abs());
-        db = db.max((e.balance() - e0.balance()).abs());
-        emax = emax.max(e.total());
-        umin = umin.min(e.nonlinear / e.total());
-    }
-    let e = model.energy();
-    Run {
-        energy_drift: de / emax,
-        balance_error: db / emax,
-        min_u_share: umin,
-        dissipated: e.dissipated / emax,
-        work: e.work / emax,
-    }
-}
-
 fn name(s: PlateScheme) -> &'static str {
     match s {
         PlateScheme::ConservativeTheta1 => "conservative θ=1",
@@ -161,98 +131,6 @@ fn name(s: PlateScheme) -> &'static str {
 const SIZES: [(usize, usize); 2] = [(12, 6), (8, 14)];
 
 // ---------------------------------------------------------------- tests
-
-/// Conservative schemes, no losses or forcing, u ≥ 50 % of the energy at start, 10⁵ steps:
-/// relative drift < 1e-10. Why 1e-10: the discrete identity is exact, so only round-off
-/// accumulates (≈ 1e-16 per step as a random walk: ~1e-13 after 10⁵ steps); 1e-10 leaves
-/// three orders of margin and is still ~5 orders below Störmer-Verlet's drift on the same case.
-#[test]
-fn conservative_energy_is_exact_at_large_amplitude() {
-    for (i, &(n_phi, n_psi)) in SIZES.iter().enumerate() {
-        let case = Case {
-            n_phi,
-            n_psi,
-            seed: 11 + i as u64,
-            damped: false,
-        };
-        for scheme in CONSERVATIVE {
-            let mut m = case.model(scheme, LinearSolve::Auto);
-            let share = case.excite(&mut m, 0.5);
-            let r = run(&mut m, 100_000, |_| 0.0);
-            eprintln!(
-                "[{}] N_Φ={n_phi} N_Ψ={n_psi} route={:?}: u share {share:.2} at start (min {:.3}), \
-                 drift over 1e5 steps {:.2e}",
-                name(scheme),
-                m.solve_route().unwrap(),
-                r.min_u_share,
-                r.energy_drift
-            );
-            assert!(share > 0.3);
-            assert!(r.energy_drift < 1e-10, "{scheme:?}: {r:?}");
-        }
-    }
-}
-
-/// Störmer-Verlet on the same cases: its drift is measured and must be clearly non-zero
-/// (> 1e-8, far above round-off), which shows the conservative test above can detect a
-/// non-conservative update.
-#[test]
-fn stormer_verlet_drift_is_measured() {
-    for (i, &(n_phi, n_psi)) in SIZES.iter().enumerate() {
-        let case = Case {
-            n_phi,
-            n_psi,
-            seed: 11 + i as u64,
-            damped: false,
-        };
-        let mut m = case.model(PlateScheme::StormerVerletExact, LinearSolve::Auto);
-        case.excite(&mut m, 0.5);
-        let r = run(&mut m, 100_000, |_| 0.0);
-        eprintln!(
-            "[Störmer-Verlet exact] N_Φ={n_phi} N_Ψ={n_psi}: max relative energy deviation over 1e5 steps {:.2e}",
-            r.energy_drift
-        );
-        assert!(r.energy_drift.is_finite() && r.energy_drift > 1e-8, "{r:?}");
-    }
-}
-
-/// Damping + a raised-cosine strike on top of a large initial state: energy + dissipated -
-/// work constant to 1e-9 of the largest energy for the conservative schemes (exact identity,
-/// round-off only; 2·10⁴ steps). The strike's impulse `I` is sized so that, on the plate at
-/// rest, it would inject about the initial energy (`I² Σ Φ_s² / 2ρh = E₀`); the run must
-/// dissipate a sizeable share and the force must do work, so both accumulators are exercised.
-#[test]
-fn power_balance_closes_with_losses_and_forcing() {
-    let h = 1e-4;
-    for &(n_phi, n_psi) in &SIZES {
-        let case = Case {
-            n_phi,
-            n_psi,
-            seed: 3,
-            damped: true,
-        };
-        let phi2: f64 = Rng(3 ^ 0x5555).vec(n_phi).iter().map(|p| p * p).sum();
-        for scheme in ALL {
-            let mut m = case.model(scheme, LinearSolve::Auto);
-            case.excite(&mut m, 0.4);
-            let impulse = (2.0 * 7.86 * m.energy().total() / phi2).sqrt();
-            let duration = 2e-3;
-            let strike = RaisedCosine::new(duration, 2.0 * impulse / duration).unwrap();
-            let r = run(&mut m, 20_000, |n| strike.force(n as f64 * h - 0.05));
-            eprintln!(
-                "[{}] N_Φ={n_phi} N_Ψ={n_psi} damped+forced: balance error {:.2e}, dissipated {:.3}, work {:.3} (of max energy)",
-                name(scheme),
-                r.balance_error,
-                r.dissipated,
-                r.work
-            );
-            assert!(r.dissipated > 0.5 && r.work.abs() > 0.05, "{r:?}");
-            if scheme.is_conservative() {
-                assert!(r.balance_error < 1e-9, "{scheme:?}: {r:?}");
-            }
-        }
-    }
-}
 
 /// Woodbury and direct routes solve the same system: trajectories agree to 1e-12 (relative
 /// to max |q|) over 30 strongly nonlinear steps (measured ~1e-14). The two routes round
@@ -411,7 +289,8 @@ fn impulse_gives_the_velocity_jump() {
 
 /// `process` writes the same samples as `step` + `outputs`, for f32 and f64, interleaving the
 /// pickups; backward-velocity pickups equal the difference quotient of displacement pickups.
-/// Neither `step` nor `process` allocates (counted by the test's global allocator).
+/// Neither `step` nor `process` allocates (counted by the binary's global allocator,
+/// `noether_testkit::alloc::Guard`).
 #[test]
 fn process_matches_step_and_does_not_allocate() {
     let case = Case {

@@ -1,28 +1,17 @@
 //! Stiff string against an obstacle (SEED.md 3.2): exactness of the linear scheme, the DST grid
-//! map, energy conservation with contact, the power balance with losses and forcing, Newton
-//! counters, parameter errors. Every test prints the figures it checks (`--nocapture`).
+//! map, the offline render path, parameter errors. Every test prints the figures it checks
+//! (`--nocapture`). Energy conservation with contact and the power balance with losses and
+//! forcing (with the Newton counters) are the catalogue's (`tests/schemes/catalogue.rs`).
 
 use noether::analysis::frequency::measure;
 use noether::models::string::{
-    ContactLaw, Losses, ModalMap, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
-    StiffString, Stiffness, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
-    NEWTON_CAP,
+    ContactLaw, Losses, ModalMap, Obstacle, OutputChannel, Quantity, Readout, StiffString,
+    Stiffness, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::offline::render;
 use noether::render::source::RenderSource;
 
-// ---------------------------------------------------------------- shared harness
-
-/// The lecture's sitar bridge: a crest at the termination falling away as `-0.2 x²` over 2 cm
-/// (a drop of 0.08 mm at its far edge), so a 1 mm pluck wraps the string onto its first ~1 cm.
-fn sitar() -> Obstacle {
-    Obstacle::Sitar(SitarBridge {
-        position: 0.0,
-        curvature: 0.2,
-        height: 0.0,
-        extent: 0.02,
-    })
-}
+// ---------------------------------------------------------------- the lecture string
 
 /// Lecture string (L = 1 m, T = 180.5 N, μ = 1.17e-3 kg/m, B = 2e-5, d = 0.43 mm) with the
 /// lecture's contact law (K = 1e13, α = 1.5) and the given grid, rate, losses and obstacle;
@@ -57,73 +46,6 @@ fn pluck(s: &mut StiffString) {
         amplitude: 1e-3,
     })
     .unwrap();
-}
-
-/// Energy figures of a run, relative to the largest discrete energy seen.
-#[derive(Debug)]
-struct EnergyRun {
-    /// max |H_n - H_0| / max H.
-    drift: f64,
-    /// max |(H + dissipated - work)_n - (..)_0| / max H.
-    balance: f64,
-    /// Largest total energy (J).
-    max: f64,
-    /// Final dissipated energy (J).
-    dissipated: f64,
-    /// Final work (J).
-    work: f64,
-    /// Largest total obstacle force (N).
-    max_force: f64,
-}
-
-/// Steps `steps` times through `RenderSource::process`, one step per call, sampling the energy
-/// and checking every output after every step.
-fn run(s: &mut StiffString, steps: usize) -> EnergyRun {
-    let mut out = vec![vec![0.0; 1]; s.channels()];
-    let first = s.energy();
-    let (mut drift, mut bal, mut max, mut max_force) = (0.0f64, 0.0f64, first.total(), 0.0f64);
-    let mut hist = Vec::with_capacity(steps);
-    for _ in 0..steps {
-        s.process(&mut out, 1);
-        let e = s.energy();
-        hist.push(e);
-        max = max.max(e.total());
-        max_force = max_force.max(out[2][0]);
-        assert!(out.iter().all(|c| c[0].is_finite()));
-    }
-    for e in &hist {
-        drift = drift.max((e.total() - first.total()).abs() / max);
-        bal = bal.max((e.balance() - first.balance()).abs() / max);
-    }
-    let last = hist.last().copied().unwrap_or(first);
-    EnergyRun {
-        drift,
-        balance: bal,
-        max,
-        dissipated: last.dissipated,
-        work: last.work,
-        max_force,
-    }
-}
-
-/// Newton counters: no cap hit, max ≤ cap, contact happened; prints the histogram.
-fn check_newton(label: &str, s: &StiffString) {
-    let st = s.contact_stats();
-    let last = st.max_iterations();
-    eprintln!(
-        "{label}: contact steps {}, max penetration {:.3e} m, Newton max {} mean {:.2} (in contact), histogram {:?}",
-        st.contact_steps,
-        st.max_penetration,
-        last,
-        st.mean_iterations_in_contact(),
-        &st.histogram[..=last]
-    );
-    assert!(
-        st.contact_steps > 0,
-        "{label}: the run never touched the obstacle"
-    );
-    assert_eq!(st.cap_hits, 0, "{label}: Newton hit its cap");
-    assert!(last <= NEWTON_CAP);
 }
 
 // ---------------------------------------------------------------- linear exactness
@@ -296,109 +218,6 @@ fn grid_and_modal_pickups_agree_at_a_node() {
     for (a, b) in out[0].iter().zip(&out[1]) {
         assert!((a - b).abs() < 1e-12 * scale, "{a} {b}");
     }
-}
-
-// ---------------------------------------------------------------- energy with contact
-
-/// Lossless sitar and tanpura at fs = 2 MHz (20 ms, N = 500 so the tanpura point at 6 mm is a
-/// node): relative drift of H below 1e-10. The scheme conserves H exactly; what is left is
-/// round-off (a few ulps of H per step, random-walk over 4e4 steps ≈ 1e-13) plus the Newton
-/// residual (≤ 1e-13 of the penetration scale per contact node-step).
-#[test]
-fn lossless_contact_conserves_energy_at_2_mhz() {
-    for (label, obstacle) in [
-        ("sitar 2 MHz", sitar()),
-        ("tanpura 2 MHz", Obstacle::tanpura()),
-    ] {
-        let mut s = lecture(500, 2_000_000.0, Losses::None, obstacle);
-        pluck(&mut s);
-        let r = run(&mut s, 40_000);
-        eprintln!(
-            "{label}: H = {:.6e} J, drift {:.2e}, max obstacle force {:.3} N",
-            r.max, r.drift, r.max_force
-        );
-        check_newton(label, &s);
-        assert!(r.drift < 1e-10, "{label}: {r:?}");
-        assert!(r.max_force > 0.0);
-    }
-}
-
-/// Same at fs = 48 kHz for a full second (the contact is then very stiff per step: Newton
-/// works harder, the energy must still be conserved to 1e-10 relative).
-#[test]
-fn lossless_contact_conserves_energy_at_48_khz_for_a_second() {
-    for (label, obstacle) in [
-        ("sitar 48 kHz", sitar()),
-        ("tanpura 48 kHz", Obstacle::tanpura()),
-    ] {
-        let mut s = lecture(500, 48_000.0, Losses::None, obstacle);
-        pluck(&mut s);
-        let r = run(&mut s, 48_000);
-        eprintln!(
-            "{label}: H = {:.6e} J, drift {:.2e}, max obstacle force {:.3} N",
-            r.max, r.drift, r.max_force
-        );
-        check_newton(label, &s);
-        assert!(r.drift < 1e-10, "{label}: {r:?}");
-    }
-}
-
-// ---------------------------------------------------------------- losses and forcing
-
-/// With the Issanchou/Valette losses the energy decays and `H + dissipated` is constant to 1e-10
-/// of max H (same round-off argument; the dissipation sum is accumulated per step exactly as
-/// the identity states).
-#[test]
-fn lossy_power_balance_closes() {
-    for (label, fs, steps) in [
-        ("sitar lossy 48 kHz 1 s", 48_000.0, 48_000),
-        ("tanpura lossy 2 MHz 20 ms", 2_000_000.0, 40_000),
-    ] {
-        let obstacle = if fs > 1e5 {
-            Obstacle::tanpura()
-        } else {
-            sitar()
-        };
-        let mut s = lecture(500, fs, Losses::Valette(ValetteLosses::default()), obstacle);
-        pluck(&mut s);
-        let r = run(&mut s, steps);
-        eprintln!(
-            "{label}: H max {:.4e} J, dissipated {:.4e} J ({:.1}%), balance error {:.2e}",
-            r.max,
-            r.dissipated,
-            100.0 * r.dissipated / r.max,
-            r.balance
-        );
-        check_newton(label, &s);
-        assert!(r.dissipated > 1e-3 * r.max, "{label}: no visible damping");
-        assert!(r.balance < 1e-10, "{label}: {r:?}");
-    }
-}
-
-/// A raised-cosine strike at rest, against the fretboard-like flat obstacle, with losses:
-/// `H + dissipated - work` constant to 1e-10 of max H; the work equals the energy put in.
-#[test]
-fn strike_force_work_closes_the_balance() {
-    let mut s = lecture(
-        200,
-        48_000.0,
-        Losses::Valette(ValetteLosses::default()),
-        Obstacle::Fretboard { distance: 2e-4 },
-    );
-    s.reset();
-    s.strike(&StrikeForce {
-        position: 0.2,
-        duration: 2e-3,
-        peak: -2.0,
-    })
-    .unwrap();
-    let r = run(&mut s, 24_000);
-    eprintln!(
-        "strike: work {:.4e} J, H max {:.4e} J, dissipated {:.4e} J, balance error {:.2e}",
-        r.work, r.max, r.dissipated, r.balance
-    );
-    check_newton("strike against fretboard", &s);
-    assert!(r.work > 0.0 && r.balance < 1e-10, "{r:?}");
 }
 
 /// The offline renderer runs the model as a `RenderSource` and reports the same conservation.
