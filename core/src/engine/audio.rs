@@ -23,16 +23,6 @@ pub const MAX_HOST_RATE: f64 = 192_000.0;
 /// A voice ends when its stored energy falls below this fraction of its peak after the
 /// excitation (1e-10: -100 dB in amplitude, since energy goes as amplitude squared).
 pub const SILENCE_RATIO: f64 = 1e-10;
-/// Largest normalised output of one voice (pickup velocity over the model's velocity
-/// reference, see [`super::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
-/// (silenced, its chunk dropped, counted in [`Engine::diverged_voices`]). 1e5 is 100 km/s at a
-/// plate pickup (400 km/s on a string): above the fastest longitudinal wave the parameter
-/// table allows, `√(E_max / ρ_min) = √(5e11 / 500) ≈ 31.6 km/s`, so the strain would exceed 1
-/// and no elastic model holds. Voices get there only by divergence of a conditionally stable
-/// scheme or by parametric pumping (stiffness or tension automated faster than the voice
-/// rings); without the ceiling their output reached inf in f32 before their f64 state
-/// overflowed (found by `tests/soak.rs`).
-pub const VOICE_CEILING: f64 = 1e5;
 /// Telemetry frames per second.
 const TELEMETRY_RATE: f64 = 30.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation

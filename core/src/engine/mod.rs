@@ -5,7 +5,7 @@
 //! # API summary (stable; later changes are additive)
 //!
 //! ```no_run
-//! use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams, Preset};
+//! use noether_core::engine::{Engine, Event, EventKind, ParamId, SharedParams, Preset};
 //! use std::sync::Arc;
 //!
 //! let params = Arc::new(SharedParams::new());                 // host / GUI write, audio reads
@@ -90,7 +90,7 @@ pub mod resample;
 mod telemetry;
 pub mod voice;
 
-pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO, VOICE_CEILING};
+pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand};
 pub use handle::{EngineHandle, DEBOUNCE};
@@ -101,3 +101,4 @@ pub use params::{
 };
 pub use preset::{Preset, PresetValue};
 pub use telemetry::{Telemetry, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES};
+pub use voice::VOICE_CEILING;

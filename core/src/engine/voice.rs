@@ -22,7 +22,6 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
-use super::audio::VOICE_CEILING;
 use super::kinds::Material;
 use super::params::{ParamId, ParamValues};
 use super::telemetry::{SNAPSHOT_POINTS, SPECTRUM_MODES};
@@ -32,6 +31,17 @@ use crate::models::source::EnergyTerms;
 use crate::models::string::params::Stiffness;
 use crate::models::string::{StiffString, TrianglePluck, ValetteLosses};
 use std::sync::Arc;
+
+/// Largest normalised output of one voice (pickup velocity over the model's velocity
+/// reference, see [`super::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
+/// (silenced, its chunk dropped, counted in [`Engine::diverged_voices`]). 1e5 is 100 km/s at a
+/// plate pickup (400 km/s on a string): above the fastest longitudinal wave the parameter
+/// table allows, `√(E_max / ρ_min) = √(5e11 / 500) ≈ 31.6 km/s`, so the strain would exceed 1
+/// and no elastic model holds. Voices get there only by divergence of a conditionally stable
+/// scheme or by parametric pumping (stiffness or tension automated faster than the voice
+/// rings); without the ceiling their output reached inf in f32 before their f64 state
+/// overflowed (found by `tests/soak.rs`).
+pub const VOICE_CEILING: f64 = 1e5;
 
 /// Per-bank data of a plate model: the dimensionless modal data and the mode values at the
 /// strike point, the pickups and the snapshot points (unit-size plate). Shared read-only by

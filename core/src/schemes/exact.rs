@@ -33,7 +33,7 @@
 //! `E_n` is positive definite (`Ω̃²h² < 4` then).
 
 use super::OscillatorStepper;
-use crate::analysis::analytic::damped_linear;
+use super::closed_form::damped_linear;
 use crate::error::{check_non_negative, check_positive, ParamError};
 
 /// Exact scheme stepper for the damped linear oscillator.
