@@ -14,9 +14,9 @@
 //!   `noether stress`).
 //!
 //! The core's modules are re-exported under their own names ([`engine`], [`models`],
-//! [`modal`], [`modal_rect`], [`schemes`], [`error`]).
+//! [`modal`], [`schemes`], [`error`]).
 
-pub use noether_core::{engine, error, modal, modal_rect, models, schemes, ParamError};
+pub use noether_core::{engine, error, modal, models, schemes, ParamError};
 
 pub mod analysis;
 pub mod lab;

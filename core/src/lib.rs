@@ -13,8 +13,9 @@
 //!   Gauss methods);
 //! - [`analysis`]: closed-form solutions, the schemes' dispersion, frequency and energy-drift
 //!   measurements;
-//! - [`modal`], then [`modal_rect`] (which uses `modal`'s tensor and quadrature): dimensionless
-//!   modal bases of plates (Φ, Ψ) and their coupling tensors with the streaming kernels;
+//! - [`modal`]: dimensionless modal bases of plates (Φ, Ψ) behind one trait
+//!   ([`modal::ModalBasis`]): `modal::circular`, `modal::rect`, and their coupling tensor with
+//!   the streaming kernels (`modal::tensor`);
 //! - [`models`]: the instrument models (modal von Kármán plate, stiff string with contact), their
 //!   typed specifications (`spec`) and the [`models::source::RenderSource`] trait;
 //! - [`engine`]: the real-time engine (voices, banks built on a worker thread, parameters,
@@ -30,7 +31,6 @@ pub mod analysis;
 pub mod engine;
 pub mod error;
 pub mod modal;
-pub mod modal_rect;
 pub mod models;
 pub mod schemes;
 

@@ -2,8 +2,8 @@
 //! frequencies for a given material and size.
 
 use clap::{Args, ValueEnum};
+use noether::modal::rect::transverse_modes;
 use noether::modal::{circular_modes, omega_scale, CircularEdge, Parity};
-use noether::modal_rect::transverse_modes;
 use serde::Serialize;
 
 /// Plate families.

@@ -1,7 +1,7 @@
 //! Modal data of the simply supported rectangle with in-plane edges free of stress
-//! (`noether::modal_rect`): closed-form Φ, Rayleigh-Ritz Ψ, coupling tensor H.
+//! (`noether::modal::rect`): closed-form Φ, Rayleigh-Ritz Ψ, coupling tensor H.
 
-use noether::modal_rect::{RectModes, RectSpec};
+use noether::modal::rect::{RectModes, RectSpec};
 use std::f64::consts::PI;
 
 /// Gauss-Legendre rule on `[0, len]` from the identity `∫ x^k` (independent of the crate's
@@ -261,7 +261,7 @@ fn quad2(aspect: f64, n: usize, f: impl Fn(f64, f64) -> f64) -> f64 {
 fn coupling_symmetry_and_parity_rules_are_exact() {
     let aspect = 1.5;
     let m = RectModes::build(&RectSpec::new(aspect, 60, 40)).unwrap();
-    let c = &m.coupling;
+    let c = m.triplets();
     assert_eq!((c.n_phi, c.n_psi), (60, 40));
     // Sorted by (l, i, j), j ≤ i, and every stored entry obeys the parity rule.
     for k in 0..c.len() {
@@ -333,10 +333,14 @@ fn e_tensor_equals_h_by_integration_by_parts() {
     // tolerance 1e-11 of the largest |H| (observed ~1e-15).
     let aspect = 4.0 / 3.0;
     let m = RectModes::build(&RectSpec::new(aspect, 30, 30)).unwrap();
-    let scale = m.coupling.value.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = m
+        .triplets()
+        .value
+        .iter()
+        .fold(0.0f64, |a, v| a.max(v.abs()));
     // Nonzero H entries spread over the stored list give (s, i, j) = (i_t, j_t, l_t) and
     // (j_t, i_t, l_t); plus two parity-forbidden triples where both sides must vanish.
-    let c = &m.coupling;
+    let c = m.triplets();
     let mut triples = vec![(10, 4, 7), (29, 17, 29)];
     for q in 1..5 {
         let k = q * c.len() / 5;
@@ -370,13 +374,13 @@ fn coupling_converged_when_quadrature_doubles() {
     let mut s2 = spec.clone();
     s2.quad_points = Some(2 * a.quad_points);
     let b = RectModes::build(&s2).unwrap();
-    assert_eq!(a.coupling.len(), b.coupling.len());
-    let scale = a.coupling.value.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let worst = a
-        .coupling
+    let (a_h, b_h) = (a.triplets(), b.triplets());
+    assert_eq!(a_h.len(), b_h.len());
+    let scale = a_h.value.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = a_h
         .value
         .iter()
-        .zip(&b.coupling.value)
+        .zip(&b_h.value)
         .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
     eprintln!(
         "quadrature {} -> {}: worst |ΔH| {worst:.2e} of max|H| {scale:.3e}",
@@ -410,10 +414,10 @@ fn lecture_800_mode_plate_builds_quickly() {
     let m = RectModes::build(&RectSpec::new(0.8 / 0.6, 800, 200)).unwrap();
     let secs = t.elapsed().as_secs_f64();
     assert!(secs < 30.0, "build took {secs} s");
-    assert_eq!(m.coupling.n_phi, 800);
-    assert!(m.coupling.value.iter().all(|v| v.is_finite()));
+    assert_eq!(m.coupling.n_phi(), 800);
+    assert!(m.coupling.parts().3.iter().all(|v| v.is_finite()));
     eprintln!(
         "N_Φ=800 N_Ψ=200 build {secs:.2} s, {} entries",
-        m.coupling.len()
+        m.coupling.nnz()
     );
 }

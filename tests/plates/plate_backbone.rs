@@ -24,7 +24,7 @@ fn simulated_backbone_matches_the_independent_duffing_coefficient() {
     let spec = CircularPlateSpec::new(CircularEdge::Free, 0.3, 3, 300, None).unwrap();
     let modes = PlateModes::build(&spec).unwrap();
     let p = modes.phi.iter().position(|m| (m.n, m.k) == (0, 1)).unwrap();
-    let omega = modes.omega[p];
+    let omega = modes.lambda2[p];
     let gamma_direct = -compat::compatibility_direct(&modes.phi[p], 20000);
     // The single-mode model: only the in-plane modes that couple to (0,1) (axisymmetric ones).
     let ls: Vec<usize> = (0..modes.psi.len())

@@ -16,11 +16,11 @@ pub use crate::models::plate::basis::ModalCache;
 use crate::models::plate::basis::{BasisKey, PlateBasis};
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
-use crate::models::string::params::Stiffness;
-use crate::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
-    StringConfig, StringParams, ValetteLosses,
+use crate::models::string::spec::{
+    StringContact, StringExcitation, StringLosses, StringObstacle, StringOutput, StringQuantity,
+    StringReadout, StringSpec,
 };
+use crate::models::string::{StiffString, ValetteLosses};
 use std::sync::Arc;
 
 /// Host-rate samples per internal chunk: events, parameter reads and bank swaps happen on
@@ -180,48 +180,61 @@ impl Bank {
             norm = 1.0 / STRING_VELOCITY_REF;
             let length = v.get(ParamId::Size) as f64;
             let mu = v.get(ParamId::LinearDensity) as f64;
-            let params = StringParams {
-                length,
-                tension: v.get(ParamId::Tension) as f64,
-                linear_density: mu,
-                stiffness: Stiffness::Inharmonicity(v.get(ParamId::Inharmonicity) as f64),
-                diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
-                intervals: modes + 1,
-                sample_rate: sim_rate,
-            };
+            // The instrument's string as a specification, validated and built as a scene's
+            // `[string]` table is (one vocabulary, one table of ranges).
+            let losses = ValetteLosses::default();
             let obstacle = if kind == ModelKind::Sitar {
-                Obstacle::Sitar(SitarBridge {
+                StringObstacle::Sitar {
                     position: 0.0,
                     curvature: v.get(ParamId::BridgeCurvature) as f64,
                     height: 0.0,
                     extent: v.get(ParamId::BridgePosition) as f64,
-                })
+                }
             } else {
-                Obstacle::Point {
+                StringObstacle::Point {
                     position: v.get(ParamId::BridgePosition) as f64,
                     height: 0.0,
                     width: 0.0,
                 }
             };
-            let pickup = |id: ParamId| OutputChannel::Pickup {
+            let pickup = |id: ParamId| StringOutput::Pickup {
                 position: v.get(id) as f64 * length,
-                quantity: Quantity::Velocity,
-                readout: Readout::Grid,
+                quantity: StringQuantity::Velocity,
+                readout: StringReadout::Grid,
             };
-            let losses = ValetteLosses::default();
-            let config = StringConfig {
-                params,
-                losses: Losses::Valette(losses),
+            let spec = StringSpec {
+                length,
+                diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
+                tension: v.get(ParamId::Tension) as f64,
+                linear_density: mu,
+                inharmonicity: Some(v.get(ParamId::Inharmonicity) as f64),
+                bending_stiffness: None,
+                modes,
+                sim_rate,
+                losses: StringLosses::Valette {
+                    air_viscosity: losses.air_viscosity,
+                    air_density: losses.air_density,
+                    viscoelastic_delta: losses.viscoelastic_delta,
+                    thermoelastic_q_inv: losses.thermoelastic_q_inv,
+                },
                 obstacle,
-                contact: ContactLaw {
+                contact: StringContact {
                     stiffness: v.get(ParamId::ContactStiffness) as f64,
                     exponent: v.get(ParamId::ContactAlpha) as f64,
+                },
+                contact_scheme: "newton".into(),
+                excitation: StringExcitation::Pluck {
+                    position: v.get(ParamId::PluckPosition) as f64 * length,
+                    amplitude: v.get(ParamId::PluckAmplitude) as f64,
                 },
                 outputs: vec![
                     pickup(ParamId::PickupLeftPos),
                     pickup(ParamId::PickupRightPos),
                 ],
+                snapshots: Vec::new(),
             };
+            spec.validate()?;
+            let config = spec.config();
             for _ in 0..voices_n {
                 let model = StiffString::new(&config)?;
                 voices.push(Voice::new(VoiceModel::String(Box::new(StringVoice::new(

@@ -5,8 +5,8 @@
 //!
 //! Runs on the thread that selects the model (CLI main thread); allocates.
 
+use crate::modal::rect::transverse_modes;
 use crate::modal::{circular_modes_with, CircularEdge, Parity};
-use crate::modal_rect::transverse_modes;
 use crate::scene::plate::{PlateShape, PlateSpec};
 use std::f64::consts::TAU;
 

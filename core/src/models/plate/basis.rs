@@ -9,10 +9,11 @@
 
 use super::spec::{PlateShape, Position, Symmetry};
 use crate::error::ParamError;
+use crate::modal::rect::{RectModes, RectSpec};
 use crate::modal::{
-    default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes,
+    default_cache_dir, CacheOutcome, CircularEdge, CircularPlateSpec, Coordinates, CouplingTensor,
+    ModalBasis, PlateModes, UnitPoint,
 };
-use crate::modal_rect::{RectModes, RectSpec};
 use std::sync::Arc;
 
 /// What selects a basis: the shape's modal problem and the mode counts.
@@ -65,13 +66,6 @@ impl BasisKey {
     }
 }
 
-/// The mode shapes behind a basis.
-#[derive(Debug, Clone)]
-enum Shapes {
-    Circular(Arc<PlateModes>),
-    Rect(Arc<RectModes>),
-}
-
 /// Dimensionless modal data of a plate of unit size (`a = 1` or `lx = 1`, `D = ρh = 1`).
 ///
 /// Read-only once built; shared (`Arc`) between the voices of a bank.
@@ -85,18 +79,31 @@ pub struct PlateBasis {
     pub coupling: Arc<CouplingTensor>,
     /// What the caches did (`hit`, `built and saved`, `memory`, ...), for reports.
     pub cache: String,
-    shapes: Shapes,
+    shapes: Arc<dyn ModalBasis>,
 }
 
 impl PlateBasis {
+    /// The basis of `modes` (any shape), with its tensor shared as `coupling` and the cache
+    /// report `cache`.
+    fn new(modes: Arc<dyn ModalBasis>, coupling: Arc<CouplingTensor>, cache: String) -> Self {
+        Self {
+            lambda2: modes.lambda2().to_vec(),
+            zeta4: modes.zeta4().to_vec(),
+            coupling,
+            cache,
+            shapes: modes,
+        }
+    }
+
     /// `Φ_s` of the unit plate at `p`: `(r, angle)` on circular plates, the angle in the
     /// basis's own frame (a mirror basis has its strike at angle 0); `(x, y)` as fractions of
     /// the sides on rectangles. Missing coordinates read as 0 (r, angle) or ½ (x, y).
     pub fn phi_at(&self, mode: usize, p: &Position) -> f64 {
-        match &self.shapes {
-            Shapes::Circular(m) => m.phi_at(mode, p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0)),
-            Shapes::Rect(m) => m.phi_at(mode, p.x.unwrap_or(0.5), p.y.unwrap_or(0.5)),
-        }
+        let point = match self.shapes.coordinates() {
+            Coordinates::Polar => UnitPoint::polar(p.r.unwrap_or(0.0), p.angle.unwrap_or(0.0)),
+            Coordinates::Sides => UnitPoint::sides(p.x.unwrap_or(0.5), p.y.unwrap_or(0.5)),
+        };
+        self.shapes.phi_at(mode, point)
     }
 
     /// `Φ_s(p)` of every transverse mode.
@@ -154,13 +161,7 @@ impl ModalCache {
                         (modes, coupling, cache)
                     }
                 };
-                Ok(PlateBasis {
-                    lambda2: modes.omega.clone(),
-                    zeta4: modes.zeta4.clone(),
-                    coupling,
-                    cache,
-                    shapes: Shapes::Circular(modes),
-                })
+                Ok(PlateBasis::new(modes, coupling, cache))
             }
             BasisKey::Rect {
                 aspect,
@@ -175,19 +176,13 @@ impl ModalCache {
                             .map_err(|e| {
                                 ParamError::new("modes", n_phi, format!("a buildable basis ({e})"))
                             })?;
-                        let coupling = Arc::new(modes.coupling.to_tensor()?);
+                        let coupling = Arc::new(modes.coupling.clone());
                         let modes = Arc::new(modes);
                         self.rect = Some((k, modes.clone(), coupling.clone()));
                         (modes, coupling, "not cached (built directly)".to_string())
                     }
                 };
-                Ok(PlateBasis {
-                    lambda2: modes.lambda2.clone(),
-                    zeta4: modes.zeta4.clone(),
-                    coupling,
-                    cache,
-                    shapes: Shapes::Rect(modes),
-                })
+                Ok(PlateBasis::new(modes, coupling, cache))
             }
         }
     }

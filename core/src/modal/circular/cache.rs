@@ -12,9 +12,10 @@
 
 use super::assemble::assemble;
 use super::basis::{CircularPlateSpec, Mode, PlateModes};
-use super::circular::CircularEdge;
-use super::coupling::CouplingTensor;
+use super::radial::CircularEdge;
 use crate::error::ParamError;
+use crate::modal::error::{CacheReject, ModalError};
+use crate::modal::tensor::CouplingTensor;
 use std::path::{Path, PathBuf};
 
 /// Version of the file layout and of the numerical method; bump it when either changes.
@@ -25,16 +26,19 @@ const MAGIC: &[u8; 8] = b"NTHMODAL";
 /// What [`PlateModes::load_or_build`] did.
 ///
 /// Plain data returned to the worker thread.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum CacheOutcome {
     /// A valid cache file was found and used.
     Hit,
     /// No cache file existed; the basis was built and saved.
     Built,
-    /// A cache file existed but was rejected (the reason is given); rebuilt and saved.
-    Rebuilt(String),
-    /// Built, but saving failed (the I/O error is given); the basis is still valid.
-    NotSaved(String),
+    /// A cache file existed but was rejected (the reason is given: a
+    /// [`ModalError::CacheRejected`], or [`ModalError::Io`] if it could not be read); rebuilt
+    /// and saved.
+    Rebuilt(ModalError),
+    /// Built, but saving failed (the [`ModalError::Io`] is given, with the path); the basis is
+    /// still valid.
+    NotSaved(ModalError),
 }
 
 /// Default cache directory: `$NOETHER_CACHE` if set, else `$HOME/.cache/noether`, else
@@ -130,32 +134,32 @@ fn encode(spec: &CircularPlateSpec, fp: u64, t: &CouplingTensor) -> Vec<u8> {
 }
 
 /// Parses and checks a cache file; `Err` carries the reason for rejecting it.
-fn decode(spec: &CircularPlateSpec, fp: u64, bytes: &[u8]) -> Result<CouplingTensor, String> {
+fn decode(spec: &CircularPlateSpec, fp: u64, bytes: &[u8]) -> Result<CouplingTensor, CacheReject> {
     if bytes.len() < 8 {
-        return Err("file too short".into());
+        return Err(CacheReject::TooShort);
     }
     let (body, tail) = bytes.split_at(bytes.len() - 8);
     let stored = u64::from_le_bytes(tail.try_into().expect("8 bytes"));
     if hash_words(body) != stored {
-        return Err("checksum mismatch".into());
+        return Err(CacheReject::Checksum);
     }
     let probe = header(spec, fp, 0);
     let hl = probe.len();
     if body.len() < hl || body[..hl - 8] != probe[..hl - 8] {
-        return Err("header does not match the requested basis".into());
+        return Err(CacheReject::Header);
     }
     let nnz = u64::from_le_bytes(body[hl - 8..hl].try_into().expect("8 bytes")) as usize;
     let nrow = spec.n_psi + 1;
     let need = nrow
-        .checked_add(nnz.checked_mul(2).ok_or("nnz overflow")?)
+        .checked_add(nnz.checked_mul(2).ok_or(CacheReject::SizeOverflow)?)
         .and_then(|w| w.checked_mul(4))
         .and_then(|w| w.checked_add(nnz.checked_mul(8)?))
-        .ok_or("size overflow")?;
+        .ok_or(CacheReject::SizeOverflow)?;
     if body.len() - hl != need {
-        return Err(format!(
-            "payload is {} bytes, expected {need}",
-            body.len() - hl
-        ));
+        return Err(CacheReject::PayloadSize {
+            got: body.len() - hl,
+            expected: need,
+        });
     }
     let u32s = |off: usize, n: usize| -> Vec<u32> {
         body[off..off + 4 * n]
@@ -171,7 +175,7 @@ fn decode(spec: &CircularPlateSpec, fp: u64, bytes: &[u8]) -> Result<CouplingTen
         .chunks_exact(8)
         .map(|c| f64::from_bits(u64::from_le_bytes(c.try_into().expect("8 bytes"))))
         .collect();
-    CouplingTensor::from_parts(spec.n_phi, spec.n_psi, rs, vi, vj, vv).map_err(|e| e.to_string())
+    CouplingTensor::from_parts(spec.n_phi, spec.n_psi, rs, vi, vj, vv).map_err(CacheReject::Tensor)
 }
 
 /// Writes `bytes` to `path` atomically (temporary file in the same directory, then rename).
@@ -203,14 +207,14 @@ impl PlateModes {
         match std::fs::read(&path) {
             Ok(bytes) => match decode(spec, fp, &bytes) {
                 Ok(t) => return Ok((Self::from_parts(*spec, phi, psi, t), CacheOutcome::Hit)),
-                Err(reason) => outcome = CacheOutcome::Rebuilt(reason),
+                Err(reason) => outcome = CacheOutcome::Rebuilt(reason.into()),
             },
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => outcome = CacheOutcome::Rebuilt(format!("unreadable: {e}")),
+            Err(e) => outcome = CacheOutcome::Rebuilt(ModalError::io(&path, &e)),
         }
         let t = assemble(&phi, &psi, spec.quad_points)?;
         if let Err(e) = write_atomic(&path, &encode(spec, fp, &t)) {
-            outcome = CacheOutcome::NotSaved(format!("{}: {e}", path.display()));
+            outcome = CacheOutcome::NotSaved(ModalError::io(&path, &e));
         }
         Ok((Self::from_parts(*spec, phi, psi, t), outcome))
     }

@@ -21,7 +21,7 @@
 //! re-reads a block while it is still in cache.
 //!
 //! The fused SAV kernel of [`super::CouplingTensor::quartic_gradient`] now streams the dense
-//! selection-rule blocks of `coupling_blocks.rs` (about 3-4× faster on the gong's tensors);
+//! selection-rule blocks of `tensor/blocks.rs` (about 3-4× faster on the gong's tensors);
 //! [`RunLayout::quartic_gradient`] stays as its reference (`quartic_gradient_runs`) and as the
 //! fall-back for sparse class pairs; the schemes' `contract_eta`, `apply_force` and
 //! `coupling_matrix` also stream the blocks (`*_with_scratch`), and the run kernels here stay

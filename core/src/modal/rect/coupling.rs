@@ -26,7 +26,7 @@ use std::f64::consts::PI;
 
 /// Nonzero entries `H^l_{ij}` with `j ≤ i` as a struct of arrays, sorted by `l`, then `i`,
 /// then `j`. Dimensionless (plate `[0,1] × [0,aspect]`); the physical tensor is
-/// `H_phys = value / Lx⁵` (see the module docs of [`crate::modal_rect`]).
+/// `H_phys = value / Lx⁵` (see the module docs of [`crate::modal::rect`]).
 ///
 /// Built on a worker thread; read-only afterwards, so an audio thread may read it once the
 /// stepper owns it.
@@ -47,24 +47,22 @@ pub struct CouplingTriplets {
 }
 
 impl CouplingTriplets {
-    /// The same entries in the run layout every plate scheme streams (rows by `l`, entries
-    /// sorted by `i`, then `j ≤ i`, as the triplets already are). Worker thread; allocates.
-    pub fn to_tensor(&self) -> Result<CouplingTensor, ParamError> {
-        let mut row_start = vec![0u32; self.n_psi + 1];
-        for &l in &self.l {
-            row_start[l as usize + 1] += 1;
+    /// The entries of `t` listed with their row `l` (the tensor's order: by `l`, then `i`, then
+    /// `j ≤ i`). Worker thread or tests; allocates.
+    pub fn from_tensor(t: &CouplingTensor) -> Self {
+        let (row_start, i, j, value) = t.parts();
+        let mut l = Vec::with_capacity(value.len());
+        for (row, w) in row_start.windows(2).enumerate() {
+            l.extend(std::iter::repeat_n(row as u32, (w[1] - w[0]) as usize));
         }
-        for l in 0..self.n_psi {
-            row_start[l + 1] += row_start[l];
+        Self {
+            n_phi: t.n_phi(),
+            n_psi: t.n_psi(),
+            l,
+            i: i.to_vec(),
+            j: j.to_vec(),
+            value: value.to_vec(),
         }
-        CouplingTensor::from_parts(
-            self.n_phi,
-            self.n_psi,
-            row_start,
-            self.i.clone(),
-            self.j.clone(),
-            self.value.clone(),
-        )
     }
 
     /// Number of stored entries.
@@ -132,14 +130,15 @@ struct Pair {
     sn: u32,
 }
 
-/// Builds the coupling triplets for the given transverse labels and Airy modes, integrating
-/// the 1D cosine tables with `nq` Gauss-Legendre points per direction.
+/// Builds the coupling tensor for the given transverse labels and Airy modes, integrating
+/// the 1D cosine tables with `nq` Gauss-Legendre points per direction (rows by `l`, entries
+/// sorted by `i`, then `j ≤ i`: the layout of [`CouplingTensor`]).
 pub(crate) fn build(
     aspect: f64,
     labels: &[(u32, u32)],
     airy: &AiryModes,
     nq: usize,
-) -> (CouplingTriplets, CosineTables) {
+) -> Result<(CouplingTensor, CosineTables), ParamError> {
     let m_max = labels.iter().map(|l| l.0).max().unwrap_or(1) as usize;
     let n_max = labels.iter().map(|l| l.1).max().unwrap_or(1) as usize;
     let (ka, kb) = (2 * m_max, 2 * n_max);
@@ -172,20 +171,15 @@ pub(crate) fn build(
     let n_psi = airy.modes.len();
     let counts: Vec<usize> = airy.modes.iter().map(|m| pairs[m.class].len()).collect();
     let total: usize = counts.iter().sum();
-    let mut out = CouplingTriplets {
-        n_phi: labels.len(),
-        n_psi,
-        l: Vec::with_capacity(total),
-        i: vec![0; total],
-        j: vec![0; total],
-        value: vec![0.0; total],
-    };
+    let mut row_start = vec![0u32; n_psi + 1];
     for (l, &c) in counts.iter().enumerate() {
-        out.l.extend(std::iter::repeat_n(l as u32, c));
+        row_start[l + 1] = row_start[l] + c as u32;
     }
+    let (mut out_i, mut out_j, mut out_v) =
+        (vec![0u32; total], vec![0u32; total], vec![0.0; total]);
     // Disjoint output chunks, one per l, filled in parallel.
     let mut chunks = Vec::with_capacity(n_psi);
-    let (mut ri, mut rj, mut rv) = (&mut out.i[..], &mut out.j[..], &mut out.value[..]);
+    let (mut ri, mut rj, mut rv) = (&mut out_i[..], &mut out_j[..], &mut out_v[..]);
     for &c in &counts {
         let (ci, ti) = ri.split_at_mut(c);
         let (cj, tj) = rj.split_at_mut(c);
@@ -223,7 +217,8 @@ pub(crate) fn build(
                 );
             }
         });
-    (out, CosineTables { na, nb, transforms })
+    let tensor = CouplingTensor::from_parts(labels.len(), n_psi, row_start, out_i, out_j, out_v)?;
+    Ok((tensor, CosineTables { na, nb, transforms }))
 }
 
 /// Parity class `2 px + py` of the product `Φ_i Φ_j` (and of `L(Φ_i, Φ_j)`) about the centre

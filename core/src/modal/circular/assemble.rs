@@ -20,10 +20,10 @@
 //! one per available core); allocates.
 
 use super::angular::{factors, Parity};
-use super::coupling::CouplingTensor;
 use super::modes::Mode;
-use super::quadrature::GaussLegendre;
 use crate::error::ParamError;
+use crate::modal::quadrature::GaussLegendre;
+use crate::modal::tensor::CouplingTensor;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One stored entry `(i, j, H^l_ij)` with `j ≤ i`.

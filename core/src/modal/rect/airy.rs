@@ -14,6 +14,8 @@
 //! Built on a worker thread (classes solved in parallel with rayon), never on the audio thread.
 
 use super::beam::{ClampedBasis1d, Scratch};
+use crate::error::ParamError;
+use crate::modal::error::ModalError;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
@@ -44,7 +46,12 @@ pub(crate) struct AiryModes {
 
 /// Solves the four parity classes with `nx` (resp. `ny`) 1D functions per direction (split as
 /// evenly as possible between the two parities) and keeps the lowest `n_psi` modes.
-pub(crate) fn solve(aspect: f64, nx: usize, ny: usize, n_psi: usize) -> Result<AiryModes, String> {
+pub(crate) fn solve(
+    aspect: f64,
+    nx: usize,
+    ny: usize,
+    n_psi: usize,
+) -> Result<AiryModes, ModalError> {
     let split = |n: usize| [n.div_ceil(2), n / 2];
     let (sx, sy) = (split(nx), split(ny));
     let bx = [
@@ -55,7 +62,7 @@ pub(crate) fn solve(aspect: f64, nx: usize, ny: usize, n_psi: usize) -> Result<A
         ClampedBasis1d::new(aspect, 0, sy[0])?,
         ClampedBasis1d::new(aspect, 1, sy[1])?,
     ];
-    let classes: Vec<Result<Vec<AiryMode>, String>> = (0..4usize)
+    let classes: Vec<Result<Vec<AiryMode>, ModalError>> = (0..4usize)
         .into_par_iter()
         .map(|class| solve_class(&bx[class / 2], &by[class % 2], class))
         .collect();
@@ -64,10 +71,15 @@ pub(crate) fn solve(aspect: f64, nx: usize, ny: usize, n_psi: usize) -> Result<A
         modes.extend(c?);
     }
     if modes.len() < n_psi {
-        return Err(format!(
-            "basis {nx} x {ny} holds only {} Airy modes, {n_psi} requested",
-            modes.len()
-        ));
+        return Err(ParamError::new(
+            "n_psi",
+            n_psi,
+            format!(
+                "at most {} Airy modes with the basis {nx} x {ny} (basis_x x basis_y)",
+                modes.len()
+            ),
+        )
+        .into());
     }
     modes.sort_by(|a, b| a.zeta4.total_cmp(&b.zeta4).then(a.class.cmp(&b.class)));
     modes.truncate(n_psi);
@@ -78,7 +90,7 @@ fn solve_class(
     bx: &ClampedBasis1d,
     by: &ClampedBasis1d,
     class: usize,
-) -> Result<Vec<AiryMode>, String> {
+) -> Result<Vec<AiryMode>, ModalError> {
     let (nx, ny) = (bx.len_basis(), by.len_basis());
     let n = nx * ny;
     let kfn = |r: usize, c: usize| {
@@ -102,7 +114,10 @@ fn solve_class(
     let kt = Mat::<f64>::from_fn(n, n, |r, c| kfn(r, c) * dsc[r] * dsc[c]);
     let llt = kt
         .llt(Side::Lower)
-        .map_err(|e| format!("Airy stiffness not positive definite in class {class}: {e:?}"))?;
+        .map_err(|_| ModalError::NotPositiveDefinite {
+            matrix: "Airy stiffness",
+            class: Some(class),
+        })?;
     let l = llt.L();
     let par = faer::get_global_parallelism();
     let mut z = Mat::<f64>::from_fn(n, n, |r, c| if r == c { dsc[r] } else { 0.0 });
@@ -110,7 +125,11 @@ fn solve_class(
     let s = &z * z.transpose();
     let evd = s
         .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| format!("Airy eigensolver failed in class {class}: {e:?}"))?;
+        .map_err(|e| ModalError::Eigensolver {
+            problem: "Airy",
+            class: Some(class),
+            detail: format!("{e:?}"),
+        })?;
     let mu = evd.S().column_vector();
     let mut x = evd.U().to_owned();
     solve_upper_triangular_in_place(l.transpose(), x.as_mut(), par);

@@ -11,6 +11,7 @@
 //! Built on a worker thread, never on the audio thread.
 
 use super::legendre::{gauss_legendre, ShenBasis};
+use crate::modal::error::ModalError;
 use faer::{Mat, Side};
 
 /// `n` clamped basis functions of one parity on `[0, len]`, `L²`-orthonormal.
@@ -32,7 +33,7 @@ pub(crate) struct ClampedBasis1d {
 
 impl ClampedBasis1d {
     /// Builds `n ≥ 1` functions of the given parity on `[0, len]`.
-    pub fn new(len: f64, parity: usize, n: usize) -> Result<Self, String> {
+    pub fn new(len: f64, parity: usize, n: usize) -> Result<Self, ModalError> {
         let idx: Vec<usize> = (0..n).map(|j| parity + 2 * j).collect();
         let count = parity + 2 * n - 1; // Shen functions 0..count
         let (t, w) = gauss_legendre(count + 6);
@@ -54,7 +55,11 @@ impl ClampedBasis1d {
         let m = Mat::<f64>::from_fn(n, n, |i, j| mt[i * n + j]);
         let evd = m
             .self_adjoint_eigen(Side::Lower)
-            .map_err(|e| format!("1D eigensolver failed: {e:?}"))?;
+            .map_err(|e| ModalError::Eigensolver {
+                problem: "1D beam mass",
+                class: None,
+                detail: format!("{e:?}"),
+            })?;
         let s = evd.S().column_vector();
         let u = evd.U();
         let mut q = vec![0.0; n * n];
@@ -62,7 +67,10 @@ impl ClampedBasis1d {
             let col = n - 1 - p;
             let mu = s[col];
             if mu.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-                return Err(format!("1D mass matrix not positive (eigenvalue {mu})"));
+                return Err(ModalError::NotPositiveDefinite {
+                    matrix: "1D beam mass",
+                    class: None,
+                });
             }
             let mut big = 0.0f64;
             for j in 0..n {
@@ -78,7 +86,10 @@ impl ClampedBasis1d {
         // Re-orthonormalise exactly in the quadrature-computed mass: G = Qᵀ M Q = R Rᵀ,
         // Q ← Q R⁻ᵀ.
         let g = congruence(&q, &mt, n);
-        let r = cholesky(&g, n).ok_or("1D Gram matrix not positive definite")?;
+        let r = cholesky(&g, n).ok_or(ModalError::NotPositiveDefinite {
+            matrix: "1D beam Gram",
+            class: None,
+        })?;
         for row in 0..n {
             // Solve R x = q_row (forward substitution), q_row ← x.
             for p in 0..n {

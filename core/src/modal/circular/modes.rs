@@ -16,7 +16,7 @@
 //! allocation-free.
 
 use super::angular::Parity;
-use super::circular::{roots, CircularEdge, RadialFunction};
+use super::radial::{roots, CircularEdge, RadialFunction};
 
 /// One mode of a circular plate.
 ///

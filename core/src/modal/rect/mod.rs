@@ -15,14 +15,15 @@
 //!   stress, "Facts from the cited papers" in SEED.md; *not* immovable or straight edges),
 //!   computed by Rayleigh-Ritz (see `airy.rs`), `∫Ψ² dS = 1`.
 //! - Coupling: `H^l_{ij} = ∫ Ψ_l L(Φ_i, Φ_j) dS`, `L(f,g) = f_xx g_yy + f_yy g_xx - 2 f_xy g_xy`
-//!   ([`CouplingTriplets`]). The other tensor of the modal equations,
+//!   ([`RectModes::coupling`], a [`CouplingTensor`]; [`RectModes::triplets`] lists it). The other tensor of the modal equations,
 //!   `E^s_{ij} = ∫ Φ_s L(Φ_i, Ψ_j) dS`, equals `H^j_{si}`: integrating by parts twice moves
 //!   the derivatives off Ψ, the boundary terms carry Ψ or ∇Ψ and vanish because
 //!   `Ψ = ∂_nΨ = 0` (hence ∇Ψ = 0) on the edge, and
 //!   `(fg_xx)_yy + (fg_yy)_xx - 2(fg_xy)_xy = L(f, g)` (Bilbao, Thomas, Touzé & Ducceschi,
 //!   Num. Meth. PDE 31(6), 2015, sec. 2: the triple self-adjointness of `L`).
 //! - Positions passed to [`RectModes::phi_at`] and [`RectModes::psi_derivs_at`] are fractions
-//!   of the sides: `xi = x/Lx ∈ [0,1]`, `eta = y/Ly ∈ [0,1]`.
+//!   of the sides: `xi = x/Lx ∈ [0,1]`, `eta = y/Ly ∈ [0,1]` (for [`ModalBasis::phi_at`],
+//!   `UnitPoint::sides(xi, eta)`).
 //!
 //! # Dimensional scaling
 //! For a physical plate `Lx × (aspect·Lx)` with modes normalised on the physical area:
@@ -47,6 +48,8 @@ pub use coupling::CouplingTriplets;
 pub use transverse::lowest_modes as transverse_modes;
 
 use crate::error::{check_closed, ParamError};
+use crate::modal::basis::{Coordinates, ModalBasis, UnitPoint};
+use crate::modal::tensor::CouplingTensor;
 
 /// What to build: geometry, mode counts and (optionally) discretisation overrides.
 ///
@@ -103,7 +106,7 @@ impl RectSpec {
     /// estimates the largest Airy wavenumber from Weyl's law, `ζ ≈ 1.25 sqrt(4π N_Ψ / aspect) + 6`,
     /// and takes `ζ L/2 + 24` polynomials along a side of length `L` (the wavenumber in the
     /// Legendre variable `t ∈ [-1,1]` plus a margin for spectral convergence; validated by the
-    /// doubling tests in `tests/modal_rect.rs`).
+    /// doubling tests in `tests/plates/modal_rect.rs`).
     pub fn basis(&self) -> (usize, usize) {
         let zeta =
             1.25 * (4.0 * std::f64::consts::PI * self.n_psi as f64 / self.aspect).sqrt() + 6.0;
@@ -143,7 +146,7 @@ pub struct RectModes {
     /// Parity class of each Ψ mode about the centre lines: `(px, py)`, 0 = even, 1 = odd.
     pub psi_parity: Vec<(u8, u8)>,
     /// Nonzero `H^l_{ij}`, `j ≤ i` (dimensionless; physical `/ Lx⁵`).
-    pub coupling: CouplingTriplets,
+    pub coupling: CouplingTensor,
     /// 1D basis sizes `(nx, ny)` used for Ψ.
     pub basis: (usize, usize),
     /// Gauss-Legendre points per direction used for the tensor's 1D integrals.
@@ -174,14 +177,20 @@ impl RectModes {
             ));
         }
         let (labels, lambda2) = transverse::lowest_modes(aspect, spec.n_phi);
-        let airy = airy::solve(aspect, nx, ny, spec.n_psi)
-            .map_err(|e| ParamError::new("basis_x/basis_y", format!("{nx}x{ny}"), e))?;
+        let airy = airy::solve(aspect, nx, ny, spec.n_psi).map_err(|e| match e {
+            crate::modal::error::ModalError::Param(p) => p,
+            e => ParamError::new(
+                "basis_x/basis_y",
+                format!("{nx}x{ny}"),
+                format!("a basis whose Rayleigh-Ritz problem solves ({e})"),
+            ),
+        })?;
         let m_max = labels.iter().map(|l| l.0).max().unwrap_or(1) as usize;
         let n_max = labels.iter().map(|l| l.1).max().unwrap_or(1) as usize;
         let quad_points = spec
             .quad_points
             .unwrap_or(nx.max(ny) + 2 * (m_max.max(n_max)) + 40);
-        let (coupling, tables) = coupling::build(aspect, &labels, &airy, quad_points);
+        let (coupling, tables) = coupling::build(aspect, &labels, &airy, quad_points)?;
         Ok(Self {
             aspect,
             zeta4: airy.modes.iter().map(|m| m.zeta4).collect(),
@@ -204,6 +213,12 @@ impl RectModes {
     /// (both in `[0, 1]`). Physical value: divide by `Lx`. Allocation-free; any thread.
     pub fn phi_at(&self, mode: usize, xi: f64, eta: f64) -> f64 {
         transverse::phi_value(self.aspect, self.labels[mode], xi, eta)
+    }
+
+    /// The stored `H^l_{ij}` listed with their row `l` (for inspection and tests; the
+    /// schemes use [`Self::coupling`]). Worker thread; allocates.
+    pub fn triplets(&self) -> CouplingTriplets {
+        CouplingTriplets::from_tensor(&self.coupling)
     }
 
     /// `[Ψ, Ψ_x, Ψ_y, Ψ_xx, Ψ_yy, Ψ_xy]` of Airy mode `l` at `xi = x/Lx`, `eta = y/Ly`, with
@@ -232,5 +247,28 @@ impl RectModes {
         crate::error::check_positive("rho_h", rho_h)?;
         let c = (d / rho_h).sqrt() / (lx * lx);
         Ok(self.lambda2.iter().map(|l| l * c).collect())
+    }
+}
+
+impl ModalBasis for RectModes {
+    fn lambda2(&self) -> &[f64] {
+        &self.lambda2
+    }
+
+    fn zeta4(&self) -> &[f64] {
+        &self.zeta4
+    }
+
+    fn coordinates(&self) -> Coordinates {
+        Coordinates::Sides
+    }
+
+    /// `Φ_mode(ξ, η)` with `p = UnitPoint::sides(ξ, η)`.
+    fn phi_at(&self, mode: usize, p: UnitPoint) -> f64 {
+        RectModes::phi_at(self, mode, p.u, p.v)
+    }
+
+    fn coupling(&self) -> &CouplingTensor {
+        &self.coupling
     }
 }

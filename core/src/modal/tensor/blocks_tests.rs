@@ -1,4 +1,4 @@
-//! Tests of the block layout (`coupling_blocks.rs`): planted selection rules against the run
+//! Tests of the block layout (`tensor/blocks.rs`): planted selection rules against the run
 //! kernel and direct sums, and a real free-plate tensor.
 
 use super::*;

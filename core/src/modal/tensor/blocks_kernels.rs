@@ -1,5 +1,5 @@
 //! The three non-fused kernels of the plate schemes on the block layout of
-//! `coupling_blocks.rs`: `η_l = qa · H^l qb` ([`BlockLayout::contract_eta`]),
+//! `tensor/blocks.rs`: `η_l = qa · H^l qb` ([`BlockLayout::contract_eta`]),
 //! `out = Σ_l w_l H^l q` ([`BlockLayout::apply_force`]) and the coupling matrix
 //! `G_{s,l} = (H^l q)_s` ([`BlockLayout::coupling_matrix`]). Each row `l` is one block
 //! mat-vec `v = H^l x` (the same `row_apply` as the fused SAV kernel, on permuted

@@ -24,7 +24,7 @@
 //! when its fill (entries over `|A||B|`, or over `|A|(|A|+1)/2` for `A = B`) is at least
 //! [`MIN_FILL`]; off-diagonal blocks are stored once (`|R| × |C|`, row-major, the smaller class
 //! as rows `R`), diagonal blocks full and symmetric. Entries of sparser groups go to a
-//! [`RunLayout`] over the permuted indices (the gathered kernel of `coupling_runs.rs`).
+//! [`RunLayout`] over the permuted indices (the gathered kernel of `tensor/runs.rs`).
 //!
 //! # Kernel
 //!
@@ -35,12 +35,12 @@
 //! `q` is permuted in and the gradient out once per call (`O(N_Φ)`).
 //!
 //! The same row product `v = H^l q` serves the kernels of the linearly implicit schemes
-//! (`contract_eta`, `apply_force`, `coupling_matrix`, in `coupling_blocks_kernels.rs`).
+//! (`contract_eta`, `apply_force`, `coupling_matrix`, in `tensor/blocks_kernels.rs`).
 //!
 //! Threads: built on a worker thread with the tensor; the kernels run on the audio thread
 //! without allocating.
 
-use super::coupling_runs::RunLayout;
+use super::runs::RunLayout;
 use std::collections::HashMap;
 
 /// Smallest fill (stored entries over block size) for which a class-pair group is stored as a
@@ -496,9 +496,9 @@ impl BlockLayout {
     }
 }
 
-#[path = "coupling_blocks_kernels.rs"]
+#[path = "blocks_kernels.rs"]
 mod kernels;
 
 #[cfg(test)]
-#[path = "coupling_blocks_tests.rs"]
+#[path = "blocks_tests.rs"]
 mod tests;

@@ -14,12 +14,19 @@
 //! "Geometrically nonlinear flexural vibrations of plates: in-plane boundary conditions and
 //! some symmetry properties", JSV 315, 2008, §3). [`CouplingTensor::apply_force`] uses it.
 //!
+//! Submodules: `blocks.rs` (the dense selection-rule blocks the time schemes stream, with the
+//! dot helpers), `blocks_kernels.rs` (their SIMD/FMA kernels with caller-owned scratch),
+//! `runs.rs` (the run layout, kept as the reference implementation the tests compare with).
+//!
 //! Threads: built once on a worker thread (allocates); the kernels take `&self` and
 //! caller-owned slices, never allocate, and are meant for the audio thread.
 
-use super::coupling_blocks::{BlockLayout, PAD};
-use super::coupling_runs::{RunLayout, MAX_N_PHI};
+mod blocks;
+mod runs;
+
 use crate::error::ParamError;
+use blocks::{BlockLayout, PAD};
+use runs::{RunLayout, MAX_N_PHI};
 
 /// Sparse symmetric coupling tensor `H^l_{ij}` (dimensionless for the unit-radius plate with
 /// unit-norm modes).
@@ -229,7 +236,7 @@ impl CouplingTensor {
     /// = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, reading each row of the tensor from memory once
     /// (the gradient of a non-negative quartic potential when `w ≥ 0`). Slices: `q`, `grad` of
     /// length `N_Φ`, `scratch` of length at least [`Self::quartic_scratch_len`]; `w`, `eta` of length `N_Ψ` (`eta`,
-    /// `grad` overwritten). Streams the dense selection-rule blocks of `coupling_blocks.rs`.
+    /// `grad` overwritten). Streams the dense selection-rule blocks of `tensor/blocks.rs`.
     /// Allocation-free, audio thread. Panics on wrong lengths.
     pub fn quartic_gradient(
         &self,
