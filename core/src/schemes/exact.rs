@@ -6,14 +6,12 @@
 //! to round-off for any `h`, aliasing included (the recurrence only sees `ω0` modulo `2π/h`).
 //!
 //! Implementation: state `(u_n, d_n)`, `d_n = u_n - u_{n-1}`, updated as
-//! `d_{n+1} = a2 d_n - b u_n`, `u_{n+1} = u_n + d_{n+1}`, with
-//! `b = 1 - a1 + a2 = (1 - e^{λ1 h})(1 - e^{λ2 h})` computed without cancellation:
-//! `expm1(-σh)² + 4 e^{-σh} sin²(ω_d h/2)` for `ξ < 1` (`σ = ξω0`, `ω_d = ω0√(1-ξ²)`),
-//! `expm1(-ω0h)²` for `ξ = 1` (no `0/0` at the critical value), `expm1(λ1h) expm1(λ2h)` for
-//! `ξ > 1` with `λ1 = -ω0/(ξ + √(ξ²-1))`. The first step is `u_1 = u(h)` from
-//! [`crate::analysis::analytic::damped_linear`]; `u_{-1} = u(-h)` is the history (used only
-//! by the energy at `n = 0` and the first dissipation increment: if `u(-h)` overflows, for
-//! `ξω0h` in the hundreds, those are infinite while the samples stay exact).
+//! `d_{n+1} = a2 d_n - b u_n`, `u_{n+1} = u_n + d_{n+1}`, with `b = 1 - a1 + a2` computed
+//! without cancellation for every `ξ` (no `0/0` at `ξ = 1`) by the shared kernel
+//! [`super::two_step::DampedTwoStep`] (`a1 = C`, `a2 = C̃`, `b = β` there, with `σ = ξω0`,
+//! `ω = ω0`). The first step is `u_1 = u(h)` from [`damped_linear`]; `u_{-1} = u(-h)` is the
+//! history (used only by the energy at `n = 0` and the first dissipation increment: if `u(-h)`
+//! overflows, for `ξω0h` in the hundreds, those are infinite while the samples stay exact).
 //!
 //! # Discrete energy balance
 //! Splitting the recurrence into centred differences (as in S. Bilbao, *Numerical Sound
@@ -32,8 +30,9 @@
 //! when `ω0h` is a multiple of π, where the samples cannot carry the velocity. For `ξ > 0`,
 //! `E_n` is positive definite (`Ω̃²h² < 4` then).
 
-use super::OscillatorStepper;
 use super::closed_form::damped_linear;
+use super::two_step::DampedTwoStep;
+use super::OscillatorStepper;
 use crate::error::{check_non_negative, check_positive, ParamError};
 
 /// Exact scheme stepper for the damped linear oscillator.
@@ -47,6 +46,8 @@ pub struct ExactScheme {
     xi: f64,
     /// Time step `h`, time units.
     h: f64,
+    /// `a1 = 2e^{-ξω0h}K` (SEED.md 1.2), dimensionless.
+    a1: f64,
     /// `a2 = e^{-2ξω0h}`, dimensionless.
     a2: f64,
     /// `b = 1 - a1 + a2`, dimensionless.
@@ -74,30 +75,16 @@ impl ExactScheme {
         check_positive("omega0", omega0)?;
         check_non_negative("xi", xi)?;
         check_positive("h", h)?;
-        let sigma = xi * omega0;
-        let em = (-sigma * h).exp_m1();
-        let b = if xi < 1.0 {
-            let wd = omega0 * ((1.0 - xi) * (1.0 + xi)).sqrt();
-            let s = (0.5 * wd * h).sin();
-            em * em + 4.0 * (-sigma * h).exp() * s * s
-        } else if xi == 1.0 {
-            em * em
-        } else {
-            let root = ((xi - 1.0) * (xi + 1.0)).sqrt();
-            let l1 = -omega0 / (xi + root);
-            let l2 = -omega0 * (xi + root);
-            (l1 * h).exp_m1() * (l2 * h).exp_m1()
-        };
-        let a2 = (-2.0 * sigma * h).exp();
-        let one_minus_a2 = -(-2.0 * sigma * h).exp_m1();
+        let k = DampedTwoStep::new(omega0, xi * omega0, h);
         Ok(Self {
             omega0,
             xi,
             h,
-            a2,
-            b,
-            omega_tilde_sq: 2.0 * b / ((1.0 + a2) * h * h),
-            sigma_tilde: one_minus_a2 / ((1.0 + a2) * h),
+            a1: k.c,
+            a2: k.c_tilde,
+            b: k.beta,
+            omega_tilde_sq: k.omega_tilde_sq(),
+            sigma_tilde: k.sigma_tilde(),
             u: 0.0,
             d: 0.0,
             u_first: 0.0,
@@ -108,7 +95,7 @@ impl ExactScheme {
 
     /// Coefficients `(a1, a2)` of `u_{n+1} - a1 u_n + a2 u_{n-1} = 0` (dimensionless).
     pub fn coefficients(&self) -> (f64, f64) {
-        (1.0 + self.a2 - self.b, self.a2)
+        (self.a1, self.a2)
     }
 
     /// Angular frequency read back from the recurrence coefficients, `ω` in `[0, π/h]` with

@@ -4,6 +4,8 @@
 //!   [`OscillatorStepper`]; [`OscillatorSpec`] names them and [`build_oscillator`] builds one.
 //! - N degrees of freedom: [`ndof`] (Hamiltonian systems, Störmer-Verlet, Runge-Kutta from
 //!   Butcher tableaus, Gauss methods).
+//! - [`two_step`]: the exact damped two-step coefficients (SEED.md 1.2 / 3.2), one kernel for
+//!   the lab's [`exact`] scheme and the plate and string models' exact linear parts.
 //!
 //! Lifecycle of every stepper: build (validates parameters, allocates), `reset` (sets initial
 //! conditions, no allocation), `step` (no allocation, bounded work).
@@ -15,6 +17,7 @@ pub mod impact;
 pub mod linear;
 pub mod ndof;
 pub mod spec;
+pub mod two_step;
 
 pub use spec::{build_oscillator, OscillatorSpec};
 

@@ -5,6 +5,7 @@
 //! scene); nothing here runs on the audio thread.
 
 use crate::error::{check_non_negative, check_positive, ParamError};
+use crate::schemes::two_step::DampedTwoStep;
 
 /// Time scheme of the plate model (see the module documentation of [`super`]).
 ///
@@ -114,18 +115,16 @@ pub struct PlateParams {
 pub(crate) struct LinearCoefficients {
     /// `ω̃²` (rad²/s²): `ω²` for θ = 1, the exact-scheme value otherwise.
     pub omega_sq: f64,
-    /// `c̃` (1/s): `c` for θ = 1, `(2/h) tanh(ch/4)` for the exact scheme.
+    /// `c̃` (1/s): `c` for θ = 1, `(2/h) tanh(ch/2)` for the exact scheme.
     pub damping: f64,
 }
 
 /// Linear-part coefficients of one mode (`omega` rad/s, `c` 1/s, step `h` s).
 ///
-/// Exact scheme (SEED 1.2, 3.2, with `σ = c/2`): `q⁺ - C q + C̃ q⁻ = 0`,
-/// `C = 2 e^{-σh} K`, `K = cos(√(ω²-σ²) h)` (or `cosh(√(σ²-ω²) h)`), `C̃ = e^{-2σh}`. Matching
+/// Exact scheme (SEED 1.2, 3.2, with `σ = c/2`): `q⁺ - C q + C̃ q⁻ = 0`. Matching
 /// `(1 + c̃h/2) q⁺ - (2 - h²ω̃²) q + (1 - c̃h/2) q⁻ = 0` gives `c̃h/2 = tanh(σh)` and
-/// `h²ω̃² = 2 (cosh(σh) - K) / cosh(σh)`, evaluated without cancellation as
-/// `4 (sinh²(σh/2) + sin²(ω_d h/2)) / cosh(σh)` (under-damped) or
-/// `4 sinh((σ+λ)h/2) sinh((σ-λ)h/2) / cosh(σh)` (over-damped, `λ = √(σ²-ω²)`).
+/// `h²ω̃² = 2 (cosh(σh) - K) / cosh(σh)`: the equivalent centred form `c̃ = 2σ̃`, `ω̃² = Ω̃²` of
+/// the shared kernel [`DampedTwoStep`] (evaluated there without cancellation or overflow).
 pub(crate) fn linear_coefficients(omega: f64, c: f64, h: f64, exact: bool) -> LinearCoefficients {
     if !exact {
         return LinearCoefficients {
@@ -133,19 +132,10 @@ pub(crate) fn linear_coefficients(omega: f64, c: f64, h: f64, exact: bool) -> Li
             damping: c,
         };
     }
-    let sigma = 0.5 * c;
-    let sh = sigma * h;
-    let num = if omega >= sigma {
-        let wd = (omega * omega - sigma * sigma).sqrt();
-        let (a, b) = ((0.5 * sh).sinh(), (0.5 * wd * h).sin());
-        4.0 * (a * a + b * b)
-    } else {
-        let lam = (sigma * sigma - omega * omega).sqrt();
-        4.0 * (0.5 * (sigma + lam) * h).sinh() * (0.5 * (sigma - lam) * h).sinh()
-    };
+    let k = DampedTwoStep::new(omega, 0.5 * c, h);
     LinearCoefficients {
-        omega_sq: num / sh.cosh() / (h * h),
-        damping: 2.0 / h * sh.tanh(),
+        omega_sq: k.omega_tilde_sq(),
+        damping: 2.0 * k.sigma_tilde(),
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 use super::contact_sav::ContactScheme;
-use super::exact::{exact_first_increment, ModeCoefficients};
+use super::exact::ModeCoefficients;
 use super::excitation::{StrikeForce, TrianglePluck};
 use super::losses::Losses;
 use super::obstacle::Obstacle;
@@ -15,6 +15,7 @@ use crate::error::ParamError;
 use crate::models::source::{
     ContactSummary, EnergyTerms, ModelDetails, RenderSource, ShapeSnapshot, StringDetails,
 };
+use crate::schemes::two_step::first_increment;
 
 /// Largest number of stored grid rows (obstacle nodes plus the nodes grid pickups read) for
 /// which rows of `S` are kept (memory `ROW_LIMIT · N_m` values, [`NodeRows`]): a step then
@@ -262,7 +263,7 @@ impl StiffString {
         for j in 0..self.q.len() {
             let om = self.params.omega(j + 1);
             let sg = self.sigma[j];
-            let d = exact_first_increment(om, sg, h, q0[j], v0[j]);
+            let d = first_increment(om, sg, h, q0[j], v0[j]);
             self.dq[j] = d;
             self.q[j] = q0[j] + d;
         }
