@@ -103,7 +103,9 @@ CRATES = [
         [
             # The core's modules re-exported by lib.rs (`pub use noether_core::{...}`) are
             # external to this crate and below everything; `analysis` is the core's analysis
-            # plus the spectrogram.
+            # plus the spectrogram. `error` extends the core's error module with the crate's
+            # error types.
+            ["error"],
             ["analysis"],
             ["plot", "scene"],
             ["render"],

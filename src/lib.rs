@@ -14,11 +14,14 @@
 //!   `noether stress`).
 //!
 //! The core's modules are re-exported under their own names ([`engine`], [`models`],
-//! [`modal`], [`schemes`], [`error`]).
+//! [`modal`], [`schemes`]); [`error`] extends the core's parameter errors with
+//! [`Error`], the one error type of the offline crate.
 
-pub use noether_core::{engine, error, modal, models, schemes, ParamError};
+pub use error::{Error, ParamError};
+pub use noether_core::{engine, modal, models, schemes};
 
 pub mod analysis;
+pub mod error;
 pub mod lab;
 pub mod plot;
 pub mod render;

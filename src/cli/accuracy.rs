@@ -10,6 +10,7 @@ use noether::plot::{write_png, Mark, Panel, Scale, Series};
 use noether::render::accuracy::{study, AccuracyStudy, Variant};
 use noether::render::preset_accuracy::{preset_study, with_overrides, PresetVariant};
 use noether::scene::Scene;
+use noether::{Error, ParamError};
 use std::path::{Path, PathBuf};
 
 /// The setting a study varies.
@@ -38,7 +39,7 @@ impl Vary {
     }
 
     /// The scene field the setting writes, for a plate or a string scene.
-    fn field(self, plate: bool) -> Result<&'static str, String> {
+    fn field(self, plate: bool) -> Result<&'static str, ParamError> {
         Ok(match (self, plate) {
             (Vary::Rate, true) => "plate.sim_rate",
             (Vary::Rate, false) => "string.sim_rate",
@@ -48,9 +49,10 @@ impl Vary {
             (Vary::Scheme, true) => "plate.scheme",
             (Vary::Scheme, false) => "string.contact_scheme",
             (Vary::Psi, false) => {
-                return Err(format!(
-                    "invalid value for `--vary`: `{}` (allowed for a string scene: rate, modes, scheme)",
-                    self.name()
+                return Err(ParamError::new(
+                    "--vary",
+                    format!("`{}`", self.name()),
+                    "rate, modes, scheme for a string scene",
                 ))
             }
         })
@@ -99,15 +101,22 @@ pub struct AccuracyArgs {
 }
 
 /// Loads the scene with the common overrides plus `extra`.
-fn load_with(a: &AccuracyArgs, extra: &[String]) -> Result<Scene, String> {
+fn load_with(a: &AccuracyArgs, extra: &[String]) -> Result<Scene, Error> {
     let mut set = a.set.clone();
     set.extend_from_slice(extra);
-    let path = a.scene.as_ref().ok_or("a scene file is required")?;
-    Scene::load(path, &set).map_err(|e| e.to_string())
+    let path = a
+        .scene
+        .as_ref()
+        .ok_or_else(|| ParamError::new("SCENE", "missing", "a scene file (or --preset NAME)"))?;
+    Ok(Scene::load(path, &set)?)
 }
 
 /// The default reference overrides of a study (see [`Vary`]).
-fn default_reference(a: &AccuracyArgs, base: &Scene, field: &str) -> Result<Vec<String>, String> {
+fn default_reference(
+    a: &AccuracyArgs,
+    base: &Scene,
+    field: &str,
+) -> Result<Vec<String>, ParamError> {
     let plate = base.plate.is_some();
     let rate_field = Vary::Rate.field(plate)?;
     let base_rate = base
@@ -143,7 +152,7 @@ fn default_reference(a: &AccuracyArgs, base: &Scene, field: &str) -> Result<Vec<
 }
 
 /// Runs `noether accuracy`.
-pub fn run(a: AccuracyArgs) -> Result<(), String> {
+pub fn run(a: AccuracyArgs) -> Result<(), Error> {
     let study = match &a.preset {
         Some(stem) => preset_run(&a, stem)?,
         None => scene_run(&a)?,
@@ -162,25 +171,22 @@ fn preset_key(vary: Vary) -> &'static str {
 }
 
 /// The study of a factory preset (see [`AccuracyArgs::preset`]).
-fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, String> {
+fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, Error> {
     let names: Vec<&str> = Preset::factory().iter().map(|(s, _)| *s).collect();
-    let factory = Preset::factory_named(stem).ok_or_else(|| {
-        format!(
-            "invalid value for `--preset`: `{stem}` (allowed: {})",
-            names.join(", ")
-        )
-    })?;
+    let factory = Preset::factory_named(stem)
+        .ok_or_else(|| ParamError::new("--preset", format!("`{stem}`"), names.join(", ")))?;
     let base = with_overrides(&factory, &a.set)?;
     let key = preset_key(a.vary);
     let plate = base
         .values()
-        .map(|v| ModelKind::from_params(&v).is_plate())
-        .map_err(|e| e.to_string())?;
+        .map(|v| ModelKind::from_params(&v).is_plate())?;
     if !plate && matches!(a.vary, Vary::Psi | Vary::Scheme) {
-        return Err(format!(
-            "invalid value for `--vary`: `{}` (allowed for a string preset: rate, modes)",
-            a.vary.name()
-        ));
+        return Err(ParamError::new(
+            "--vary",
+            format!("`{}`", a.vary.name()),
+            "rate, modes for a string preset",
+        )
+        .into());
     }
     let mut variants = Vec::new();
     for v in &a.values {
@@ -194,11 +200,7 @@ fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, String> {
     }
     let reference_set = if a.reference_set.is_empty() {
         let top = variants.iter().filter_map(|v| v.value).fold(0.0, f64::max);
-        let rate = f64::from(
-            base.values()
-                .map_err(|e| e.to_string())?
-                .get(ParamId::SimRate),
-        );
+        let rate = f64::from(base.values()?.get(ParamId::SimRate));
         match a.vary {
             Vary::Rate => vec![format!(
                 "sim_rate={}",
@@ -219,7 +221,7 @@ fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, String> {
         "accuracy of preset {stem} against {description} ({} s)",
         a.seconds
     );
-    preset_study(
+    Ok(preset_study(
         stem,
         a.vary.name(),
         &variants,
@@ -227,29 +229,30 @@ fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, String> {
         description,
         a.seconds,
         |l| eprintln!("  {l}"),
-    )
+    )?)
 }
 
 /// Parses one `--values` entry of a numeric study (`None` for schemes).
-fn parse_value(vary: Vary, v: &str) -> Result<Option<f64>, String> {
+fn parse_value(vary: Vary, v: &str) -> Result<Option<f64>, ParamError> {
     if !vary.numeric() {
         return Ok(None);
     }
     match v.parse::<f64>() {
         Ok(x) if x.is_finite() && x > 0.0 => Ok(Some(x)),
-        _ => Err(format!(
-            "invalid value for `--values`: `{v}` (allowed for --vary {}: positive finite numbers)",
-            vary.name()
+        _ => Err(ParamError::new(
+            "--values",
+            format!("`{v}`"),
+            format!("positive finite numbers for --vary {}", vary.name()),
         )),
     }
 }
 
 /// The study of a scene file.
-fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, String> {
+fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, Error> {
     let base = load_with(a, &[])?;
     let field = a.vary.field(base.plate.is_some())?;
     if a.values.is_empty() {
-        return Err("invalid value for `--values`: empty (allowed: one or more settings)".into());
+        return Err(ParamError::new("--values", "empty", "one or more settings").into());
     }
     let mut variants = Vec::new();
     for v in &a.values {
@@ -278,15 +281,14 @@ fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, String> {
 }
 
 /// Writes the CSV, JSON and PNG of a study into `out` and prints the table.
-fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), String> {
-    std::fs::create_dir_all(out).map_err(|e| format!("creating {}: {e}", out.display()))?;
+fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), Error> {
+    super::files::create_dir(out)?;
     let stem = out.join(format!("{}-accuracy-{}", study.scene, study.vary));
     let csv_path = stem.with_extension("csv");
     write_csv(&csv_path, study)?;
     let json_path = stem.with_extension("json");
-    let json = serde_json::to_string_pretty(study).map_err(|e| e.to_string())?;
-    std::fs::write(&json_path, json + "\n")
-        .map_err(|e| format!("writing {}: {e}", json_path.display()))?;
+    let json = serde_json::to_string_pretty(study)?;
+    super::files::write_text(&json_path, &(json + "\n"))?;
     let png_path = stem.with_extension("png");
     write_figure(&png_path, study)?;
     eprintln!(
@@ -314,17 +316,22 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), String> {
     Ok(())
 }
 
-fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
-    let ctx = |e: csv::Error| format!("writing {}: {e}", path.display());
+fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
+    let ctx = |source: csv::Error| Error::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
     let mut w = csv::Writer::from_path(path).map_err(ctx)?;
     for row in &study.rows {
         w.serialize(row).map_err(ctx)?;
     }
-    w.flush()
-        .map_err(|e| format!("writing {}: {e}", path.display()))
+    w.flush().map_err(|source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
-fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
+fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
     // Each setting is its own labelled point on the cost panels (a scheme study has no order).
     let cost_panel =
         |title: &str, ylabel: &str, pick: fn(&noether::render::accuracy::AccuracyRow) -> f64| {
@@ -403,6 +410,6 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), String> {
         &panels,
         columns,
         (560, 420),
-    )
-    .map_err(|e| e.to_string())
+    )?;
+    Ok(())
 }

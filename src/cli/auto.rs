@@ -7,6 +7,7 @@
 use clap::Args;
 use noether::render::auto::{reduced_toml, select, AutoReport};
 use noether::scene::Scene;
+use noether::Error;
 use std::path::PathBuf;
 
 /// Arguments of `noether auto`.
@@ -75,7 +76,7 @@ fn toml_float(x: f64) -> String {
 }
 
 /// Runs `noether auto`.
-pub fn run(a: AutoArgs) -> Result<(), String> {
+pub fn run(a: AutoArgs) -> Result<(), Error> {
     let mut set = vec!["quality.mode=auto".to_string()];
     if let Some(t) = a.tolerance_db {
         set.push(format!("quality.tolerance_db={}", toml_float(t)));
@@ -87,7 +88,7 @@ pub fn run(a: AutoArgs) -> Result<(), String> {
         set.push(format!("quality.excerpt_seconds={}", toml_float(t)));
     }
     set.extend(a.set.iter().cloned());
-    let scene = Scene::load(&a.scene, &set).map_err(|e| e.to_string())?;
+    let scene = Scene::load(&a.scene, &set)?;
     let (report, reduced) = select(&scene, |l| eprintln!("  {l}"))?;
     for r in &report.reasons {
         eprintln!("  - {r}");
@@ -95,13 +96,12 @@ pub fn run(a: AutoArgs) -> Result<(), String> {
     print_summary(&report);
     if let Some(path) = &a.write {
         let text = reduced_toml(&reduced, &report, &a.scene.display().to_string())?;
-        std::fs::write(path, text).map_err(|e| format!("writing {}: {e}", path.display()))?;
+        super::files::write_text(path, &text)?;
         eprintln!("  wrote {}", path.display());
     }
     if let Some(path) = &a.report {
-        let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-        std::fs::write(path, json + "\n")
-            .map_err(|e| format!("writing {}: {e}", path.display()))?;
+        let json = serde_json::to_string_pretty(&report)?;
+        super::files::write_text(path, &(json + "\n"))?;
         eprintln!("  wrote {}", path.display());
     }
     Ok(())

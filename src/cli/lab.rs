@@ -7,6 +7,7 @@ use noether::lab::table::{format_table, theta_table};
 use noether::lab::{Duration, NdofExperiment, OscillatorExperiment, Summary, Trace};
 use noether::schemes::ndof::SystemSpec;
 use noether::schemes::OscillatorSpec;
+use noether::{Error, ParamError};
 use std::path::{Path, PathBuf};
 
 /// Arguments of `noether lab`.
@@ -222,16 +223,16 @@ pub struct FigureArgs {
 }
 
 /// Runs `noether lab ...`.
-pub fn run(args: LabArgs) -> Result<(), String> {
+pub fn run(args: LabArgs) -> Result<(), Error> {
     match args.command {
         LabCommand::Run(a) => {
             let exp = oscillator_experiment(&a);
-            let run = exp.run().map_err(|e| e.to_string())?;
+            let run = exp.run()?;
             emit(&run.trace, &run.summary, &a.out, exp.spec.scheme_name())
         }
         LabCommand::Ndof(a) => {
             let exp = ndof_experiment(&a);
-            let (trace, summary) = exp.run().map_err(|e| e.to_string())?;
+            let (trace, summary) = exp.run()?;
             emit(
                 &trace,
                 &summary,
@@ -240,12 +241,9 @@ pub fn run(args: LabArgs) -> Result<(), String> {
             )
         }
         LabCommand::Table(a) => {
-            let rows = theta_table(a.h, a.omega0, &a.thetas).map_err(|e| e.to_string())?;
+            let rows = theta_table(a.h, a.omega0, &a.thetas)?;
             if a.json {
-                println!(
-                    "{}",
-                    serde_json::to_string(&rows).map_err(|e| e.to_string())?
-                );
+                println!("{}", serde_json::to_string(&rows)?);
             } else {
                 print!("{}", format_table(a.h, a.omega0, &rows));
             }
@@ -261,10 +259,7 @@ pub fn run(args: LabArgs) -> Result<(), String> {
             let name = a.name.unwrap_or_default();
             let fig = figures::find(&name).ok_or_else(|| {
                 let names: Vec<_> = figures::all().iter().map(|f| f.name).collect();
-                format!(
-                    "invalid value for `NAME`: {name} (allowed: {})",
-                    names.join(", ")
-                )
+                ParamError::new("NAME", &name, names.join(", "))
             })?;
             run_figure(&fig, &a.out)
         }
@@ -273,7 +268,7 @@ pub fn run(args: LabArgs) -> Result<(), String> {
 }
 
 /// Runs every lecture illustration into `dir`.
-pub fn run_all_figures(dir: &Path) -> Result<(), String> {
+pub fn run_all_figures(dir: &Path) -> Result<(), Error> {
     let out = OutArgs {
         out: dir.to_path_buf(),
         json: false,
@@ -287,23 +282,20 @@ pub fn run_all_figures(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
-fn run_figure(fig: &figures::Figure, out: &OutArgs) -> Result<(), String> {
+fn run_figure(fig: &figures::Figure, out: &OutArgs) -> Result<(), Error> {
     let (trace, summary) = match &fig.experiment {
         Experiment::Oscillator(e) => {
-            let r = e.run().map_err(|e| e.to_string())?;
+            let r = e.run()?;
             (r.trace, r.summary)
         }
-        Experiment::Ndof(e) => e.run().map_err(|e| e.to_string())?,
+        Experiment::Ndof(e) => e.run()?,
     };
     emit(&trace, &summary, out, fig.name)
 }
 
-fn emit(trace: &Trace, summary: &Summary, out: &OutArgs, stem: &str) -> Result<(), String> {
+fn emit(trace: &Trace, summary: &Summary, out: &OutArgs, stem: &str) -> Result<(), Error> {
     if out.json {
-        println!(
-            "{}",
-            serde_json::to_string(summary).map_err(|e| e.to_string())?
-        );
+        println!("{}", serde_json::to_string(summary)?);
     } else {
         print!("{}", summary.to_text());
     }

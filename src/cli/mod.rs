@@ -3,6 +3,7 @@
 
 mod accuracy;
 mod auto;
+mod files;
 mod lab;
 mod modes;
 mod render;

@@ -4,6 +4,7 @@
 use clap::{Args, ValueEnum};
 use noether::modal::rect::transverse_modes;
 use noether::modal::{circular_modes, omega_scale, CircularEdge, Parity};
+use noether::{Error, ParamError};
 use serde::Serialize;
 
 /// Plate families.
@@ -64,18 +65,12 @@ struct Row {
 }
 
 /// Runs `noether modes`.
-pub fn run(a: ModesArgs) -> Result<(), String> {
+pub fn run(a: ModesArgs) -> Result<(), Error> {
     if !(1..=20_000).contains(&a.count) {
-        return Err(format!(
-            "invalid value for `--count`: {} (allowed: 1 to 20000)",
-            a.count
-        ));
+        return Err(ParamError::new("--count", a.count, "1 to 20000").into());
     }
     if !(0.0..=0.5).contains(&a.nu) {
-        return Err(format!(
-            "invalid value for `--nu`: {} (allowed: [0, 0.5])",
-            a.nu
-        ));
+        return Err(ParamError::new("--nu", a.nu, "[0, 0.5]").into());
     }
     let rows: Vec<Row> = match a.plate {
         PlateArg::CircularFree | PlateArg::CircularClamped => {
@@ -84,8 +79,7 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
             } else {
                 CircularEdge::Clamped
             };
-            let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)
-                .map_err(|e| e.to_string())?;
+            let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)?;
             circular_modes(edge, a.nu, a.count)
                 .iter()
                 .enumerate()
@@ -106,14 +100,10 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
         }
         PlateArg::RectSs => {
             if !(a.aspect.is_finite() && (0.05..=20.0).contains(&a.aspect)) {
-                return Err(format!(
-                    "invalid value for `--aspect`: {} (allowed: [0.05, 20])",
-                    a.aspect
-                ));
+                return Err(ParamError::new("--aspect", a.aspect, "[0.05, 20]").into());
             }
             // Same scaling as the circle with the radius replaced by lx.
-            let scale = omega_scale(a.lx, a.thickness, a.youngs_modulus, a.density, a.nu)
-                .map_err(|e| e.to_string())?;
+            let scale = omega_scale(a.lx, a.thickness, a.youngs_modulus, a.density, a.nu)?;
             let (labels, lambda2) = transverse_modes(a.aspect, a.count);
             labels
                 .iter()
@@ -129,10 +119,7 @@ pub fn run(a: ModesArgs) -> Result<(), String> {
         }
     };
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string(&rows).map_err(|e| e.to_string())?
-        );
+        println!("{}", serde_json::to_string(&rows)?);
     } else {
         println!(
             "{:?} plate, nu = {}, size {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",

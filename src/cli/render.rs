@@ -7,6 +7,7 @@ use noether::render::report::write_plots;
 use noether::render::scene::render_scene;
 use noether::render::wav::{write_wav, WavFormat};
 use noether::scene::Scene;
+use noether::Error;
 use std::path::{Path, PathBuf};
 
 /// The scene `noether` renders when run without arguments.
@@ -36,8 +37,8 @@ pub struct RenderArgs {
 }
 
 /// Runs `noether render`.
-pub fn run(a: RenderArgs) -> Result<(), String> {
-    let loaded = Scene::load(&a.scene, &a.set).map_err(|e| e.to_string())?;
+pub fn run(a: RenderArgs) -> Result<(), Error> {
+    let loaded = Scene::load(&a.scene, &a.set)?;
     // quality = "auto": choose and verify the reduced model first, then render it.
     let (scene, auto) = if loaded.is_auto() {
         eprintln!("quality = \"auto\": selecting the model of {}", loaded.name);
@@ -55,8 +56,7 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         .clone()
         .unwrap_or_else(|| wav.with_extension("json"));
     if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
-        std::fs::create_dir_all(parent)
-            .map_err(|e| format!("creating {}: {e}", parent.display()))?;
+        super::files::create_dir(parent)?;
     }
     eprintln!(
         "rendering {} ({} s at {} Hz output)",
@@ -67,9 +67,10 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
     } else {
         ProgressBar::new(1000)
     };
+    // The template is a constant: it parses (the default bar would do otherwise).
     bar.set_style(
         ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
-            .map_err(|e| e.to_string())?,
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let (rendered, mut report) = render_scene(&scene, |f| bar.set_position((f * 1000.0) as u64))?;
     report.auto = auto;
@@ -80,9 +81,8 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         scene.output.sample_rate,
         WavFormat::Float32,
     )?;
-    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
-    std::fs::write(&report_path, json + "\n")
-        .map_err(|e| format!("writing {}: {e}", report_path.display()))?;
+    let json = serde_json::to_string_pretty(&report)?;
+    super::files::write_text(&report_path, &(json + "\n"))?;
     eprintln!(
         "{}: {} s, scheme {}, N_phi = {}, N_psi = {}, sim {} Hz -> {} Hz",
         report.scene,
@@ -137,16 +137,15 @@ pub fn run(a: RenderArgs) -> Result<(), String> {
         }
     }
     if report.nan_count > 0 {
-        return Err(format!(
-            "{} non-finite samples: the simulation diverged (see the report)",
-            report.nan_count
-        ));
+        return Err(Error::Diverged {
+            non_finite: report.nan_count,
+        });
     }
     Ok(())
 }
 
 /// The main job: render the default gong scene with its plots into `out/`.
-pub fn run_default() -> Result<(), String> {
+pub fn run_default() -> Result<(), Error> {
     run(RenderArgs {
         scene: PathBuf::from(DEFAULT_SCENE),
         output: None,

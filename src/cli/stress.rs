@@ -3,6 +3,7 @@
 
 use clap::{Args, ValueEnum};
 use noether::stress::{self, Density, Status};
+use noether::Error;
 
 /// Which families to sweep.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -32,7 +33,7 @@ pub struct StressArgs {
 }
 
 /// Runs the sweep, prints the table; an error (exit code 2) when any case failed.
-pub fn run(args: StressArgs) -> Result<(), String> {
+pub fn run(args: StressArgs) -> Result<(), Error> {
     let density = if args.quick {
         Density::Quick
     } else {
@@ -69,6 +70,6 @@ pub fn run(args: StressArgs) -> Result<(), String> {
     );
     match summary.failure_count() {
         0 => Ok(()),
-        n => Err(format!("{n} stress case(s) failed (listed above)")),
+        count => Err(Error::StressFailures { count }),
     }
 }

@@ -10,6 +10,7 @@
 //! - `{stem}-phase.png`: phase portrait `(u, v)`.
 
 use super::{Summary, Trace};
+use crate::error::Error;
 use crate::plot::{write_png, Mark, Panel, Series};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -27,18 +28,25 @@ pub fn write_report(
     stem: &str,
     trace: &Trace,
     summary: &Summary,
-) -> Result<Written, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
+) -> Result<Written, Error> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })?;
     let mut written = Written::default();
     let csv = dir.join(format!("{stem}.csv"));
-    write_csv(&csv, trace).map_err(|e| format!("writing {}: {e}", csv.display()))?;
+    write_csv(&csv, trace).map_err(|source| Error::Write {
+        path: csv.clone(),
+        source,
+    })?;
     written.files.push(csv);
     let json = dir.join(format!("{stem}.json"));
-    std::fs::write(
-        &json,
-        serde_json::to_string_pretty(summary).map_err(|e| e.to_string())? + "\n",
-    )
-    .map_err(|e| format!("writing {}: {e}", json.display()))?;
+    std::fs::write(&json, serde_json::to_string_pretty(summary)? + "\n").map_err(|source| {
+        Error::Write {
+            path: json.clone(),
+            source,
+        }
+    })?;
     written.files.push(json);
     let title = format!(
         "{} / {} (h = {})",
@@ -52,7 +60,7 @@ pub fn write_report(
     for (name, panels) in figures {
         let path = dir.join(format!("{stem}-{name}.png"));
         let cols = if panels.len() > 1 { 2 } else { 1 };
-        write_png(&path, &title, &panels, cols, (720, 420)).map_err(|e| e.to_string())?;
+        write_png(&path, &title, &panels, cols, (720, 420))?;
         written.files.push(path);
     }
     Ok(written)

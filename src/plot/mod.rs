@@ -8,6 +8,8 @@
 
 pub mod spectrogram;
 
+pub use crate::error::PlotError;
+
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};
 use std::path::Path;
@@ -130,18 +132,6 @@ impl Panel {
         self
     }
 }
-
-/// Errors while drawing or writing a figure.
-#[derive(Debug)]
-pub struct PlotError(pub String);
-
-impl std::fmt::Display for PlotError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "plot error: {}", self.0)
-    }
-}
-
-impl std::error::Error for PlotError {}
 
 pub(crate) fn err(e: impl std::fmt::Display) -> PlotError {
     PlotError(e.to_string())

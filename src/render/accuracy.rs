@@ -22,6 +22,7 @@
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
+use crate::error::Error;
 use crate::scene::Scene;
 use rustfft::{num_complex::Complex, FftPlanner};
 use serde::Serialize;
@@ -200,16 +201,15 @@ pub fn study(
     reference: &Scene,
     reference_description: String,
     mut log: impl FnMut(&str),
-) -> Result<AccuracyStudy, String> {
+) -> Result<AccuracyStudy, Error> {
     let out_rate = reference.output.sample_rate;
     for v in variants {
         if v.scene.output.sample_rate != out_rate
             || v.scene.output.seconds != reference.output.seconds
         {
-            return Err(format!(
-                "accuracy study: setting `{}` changes the output rate or duration; compare at one output",
-                v.setting
-            ));
+            return Err(Error::StudyOutputMismatch {
+                setting: v.setting.clone(),
+            });
         }
     }
     let (ref_out, ref_report) = render_scene(reference, |_| {})?;
@@ -253,10 +253,10 @@ pub fn study_rate(
     rates: &[f64],
     reference_rate: f64,
     log: impl FnMut(&str),
-) -> Result<AccuracyStudy, String> {
-    let at = |fs: f64| -> Result<Scene, String> {
+) -> Result<AccuracyStudy, Error> {
+    let at = |fs: f64| -> Result<Scene, Error> {
         let mut s = scene.clone();
-        s.set_sim_rate(fs).map_err(|e| e.to_string())?;
+        s.set_sim_rate(fs)?;
         Ok(s)
     };
     let variants = rates
@@ -268,7 +268,7 @@ pub fn study_rate(
                 scene: at(fs)?,
             })
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, Error>>()?;
     study(
         "rate",
         &variants,

@@ -3,6 +3,7 @@
 
 use super::resample::{advance, resample};
 use super::source::{EnergyTerms, RenderSource, ShapeSnapshot};
+use crate::error::Error;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -74,7 +75,7 @@ pub fn render(
     gain: f64,
     energy_points: usize,
     progress: impl FnMut(f64),
-) -> Result<Rendered, String> {
+) -> Result<Rendered, Error> {
     render_with_shapes(
         source,
         seconds,
@@ -96,7 +97,7 @@ pub fn render_with_shapes(
     energy_points: usize,
     snapshot_times: &[f64],
     mut progress: impl FnMut(f64),
-) -> Result<Rendered, String> {
+) -> Result<Rendered, Error> {
     let fs = source.sim_rate();
     let steps = (seconds * fs).round().max(1.0) as u64;
     let mut snap_steps: Vec<u64> = snapshot_times

@@ -12,6 +12,7 @@
 
 use super::accuracy::{log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy};
 use crate::engine::{Engine, ParamId, Preset, PresetValue, SharedParams};
+use crate::error::{Error, ParamError};
 use std::sync::Arc;
 
 /// Host rate of preset renders (Hz).
@@ -45,46 +46,41 @@ pub struct PresetRender {
 
 /// Applies `key = value` overrides (engine parameter keys; numbers, or enumeration names) to
 /// `preset`, checking each against the parameter table.
-pub fn with_overrides(preset: &Preset, sets: &[String]) -> Result<Preset, String> {
+pub fn with_overrides(preset: &Preset, sets: &[String]) -> Result<Preset, Error> {
     let mut p = preset.clone();
     for s in sets {
         let (k, v) = s
             .split_once('=')
-            .ok_or_else(|| format!("invalid override `{s}` (allowed: KEY=VALUE)"))?;
+            .ok_or_else(|| Error::OverrideSyntax { given: s.clone() })?;
         let (k, v) = (k.trim(), v.trim());
         if ParamId::from_key(k).is_none() {
-            return Err(format!(
-                "invalid parameter key `{k}` in `{s}` (allowed: a key of the engine's parameter table)"
-            ));
+            return Err(Error::UnknownParam {
+                key: k.to_string(),
+                given: s.clone(),
+            });
         }
         let value = v
             .parse::<f64>()
             .map_or_else(|_| PresetValue::Name(v.to_string()), PresetValue::Number);
         p.params.insert(k.to_string(), value);
     }
-    p.values().map_err(|e| e.to_string())?;
+    p.values()?;
     Ok(p)
 }
 
 /// Plays the preset's root key once (one voice, velocity [`PRESET_VELOCITY`]) for `seconds`
 /// through a fresh engine at [`PRESET_HOST_RATE`].
-pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, String> {
+pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, ParamError> {
     if !(seconds.is_finite() && (0.01..=60.0).contains(&seconds)) {
-        return Err(format!(
-            "invalid value for `seconds`: {seconds} (allowed: 0.01 to 60)"
-        ));
+        return Err(ParamError::new("seconds", seconds, "0.01 to 60"));
     }
     let params = Arc::new(SharedParams::new());
-    preset.apply(&params).map_err(|e| e.to_string())?;
-    params
-        .set(ParamId::Polyphony, 1.0)
-        .map_err(|e| e.to_string())?;
+    preset.apply(&params)?;
+    params.set(ParamId::Polyphony, 1.0)?;
     let v = params.snapshot();
     let kind = crate::engine::ModelKind::from_params(&v);
     let (mut engine, _handle) = Engine::new(params.clone());
-    engine
-        .activate(PRESET_HOST_RATE, PRESET_BLOCK)
-        .map_err(|e| e.to_string())?;
+    engine.activate(PRESET_HOST_RATE, PRESET_BLOCK)?;
     let key = params.get(ParamId::RootKey) as u8;
     let total = (seconds * PRESET_HOST_RATE).round() as usize;
     let (mut l, mut r) = (vec![0.0f32; PRESET_BLOCK], vec![0.0f32; PRESET_BLOCK]);
@@ -150,7 +146,7 @@ pub fn preset_study(
     reference_description: String,
     seconds: f64,
     mut log: impl FnMut(&str),
-) -> Result<AccuracyStudy, String> {
+) -> Result<AccuracyStudy, ParamError> {
     let r = render_preset(reference, seconds)?;
     log(&format!(
         "reference ({reference_description}): {:.2} s wall",

@@ -4,6 +4,7 @@ use super::offline::{EnergyStats, Rendered};
 use super::shape_plot::write_shape_png;
 use super::source::ContactSummary;
 use crate::analysis::spectrogram::spectrogram;
+use crate::error::Error;
 use crate::plot::spectrogram::write_spectrogram_png;
 use crate::plot::{write_png, Panel, Series};
 use serde::Serialize;
@@ -85,8 +86,11 @@ pub fn write_plots(
     sim_rate: f64,
     out_rate: u32,
     max_freq: f64,
-) -> Result<Vec<PathBuf>, String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("creating {}: {e}", dir.display()))?;
+) -> Result<Vec<PathBuf>, Error> {
+    std::fs::create_dir_all(dir).map_err(|source| Error::CreateDir {
+        path: dir.to_path_buf(),
+        source,
+    })?;
     let mut written = Vec::new();
     let dt = r.energy_stride as f64 / sim_rate;
     let t: Vec<f64> = (0..r.energy.len()).map(|k| k as f64 * dt).collect();
@@ -156,8 +160,7 @@ pub fn write_plots(
         &[energies, balance, share, losses],
         2,
         (760, 420),
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     written.push(path);
     let ch = &r.out[0];
     let tt: Vec<f64> = (0..ch.len()).map(|n| n as f64 / out_rate as f64).collect();
@@ -189,8 +192,7 @@ pub fn write_plots(
         &[wave, env],
         1,
         (1100, 320),
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     written.push(path);
     let spec = spectrogram(ch, out_rate as f64, 2048, 256);
     let path = dir.join(format!("{stem}-spectrogram.png"));
@@ -200,8 +202,7 @@ pub fn write_plots(
         &spec,
         max_freq.min(out_rate as f64 / 2.0),
         100.0,
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     written.push(path);
     if !r.shapes.is_empty() {
         let path = dir.join(format!("{stem}-shape.png"));

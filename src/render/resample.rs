@@ -3,6 +3,7 @@
 //!
 //! Runs on the offline render thread; allocates.
 
+use crate::error::Error;
 use rubato::{FftFixedInOut, Resampler};
 
 /// Input chunk size handed to the resampler (frames).
@@ -13,7 +14,7 @@ const CHUNK: usize = 4096;
 /// The output has `round(len · rate_out / rate_in)` frames per channel and is aligned in time
 /// with the input to within half an output sample (the resampler's reported delay is
 /// removed). Equal rates return a copy.
-pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<Vec<f64>>, String> {
+pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<Vec<f64>>, Error> {
     let channels = input.len();
     if channels == 0 || rate_in == rate_out {
         return Ok(input.to_vec());
@@ -21,7 +22,11 @@ pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<V
     let len = input[0].len();
     let expected = ((len as f64) * rate_out as f64 / rate_in as f64).round() as usize;
     let mut r = FftFixedInOut::<f64>::new(rate_in as usize, rate_out as usize, CHUNK, channels)
-        .map_err(|e| format!("resampler {rate_in} Hz -> {rate_out} Hz: {e}"))?;
+        .map_err(|source| Error::ResamplerSetup {
+            rate_in,
+            rate_out,
+            source,
+        })?;
     let delay = r.output_delay();
     let mut out: Vec<Vec<f64>> = vec![Vec::with_capacity(expected + delay + 2 * CHUNK); channels];
     let mut pos = 0;
@@ -40,9 +45,7 @@ pub fn resample(input: &[Vec<f64>], rate_in: u32, rate_out: u32) -> Result<Vec<V
             })
             .collect();
         pos += need;
-        let (_, produced) = r
-            .process_into_buffer(&chunk, &mut buf_out, None)
-            .map_err(|e| format!("resampling: {e}"))?;
+        let (_, produced) = r.process_into_buffer(&chunk, &mut buf_out, None)?;
         for (o, b) in out.iter_mut().zip(&buf_out) {
             o.extend_from_slice(&b[..produced]);
         }

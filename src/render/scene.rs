@@ -5,6 +5,7 @@ use super::offline::{render_with_shapes, Rendered};
 use super::report::{spectral_centroid, RenderReport};
 use super::source::RenderSource;
 use crate::analysis::dispersion::max_cents_error;
+use crate::error::{Error, ParamError};
 use crate::models::plate::voice::PlateVoice;
 use crate::models::string::StiffString;
 use crate::scene::{Scene, StringSpec};
@@ -29,14 +30,14 @@ pub struct SceneSource {
 }
 
 /// Builds the string of `scene` and sets its initial condition or strike.
-pub fn build_string(scene: &StringSpec) -> Result<StiffString, String> {
-    scene.validate().map_err(|e| e.to_string())?;
-    let scoped = |mut e: crate::ParamError| {
+pub fn build_string(scene: &StringSpec) -> Result<StiffString, ParamError> {
+    scene.validate()?;
+    let scoped = |mut e: ParamError| {
         e.field = format!("string.{}", e.field);
-        e.to_string()
+        e
     };
     let mut s = StiffString::new(&scene.config()).map_err(scoped)?;
-    s.set_contact_scheme(scene.scheme().map_err(|e| e.to_string())?);
+    s.set_contact_scheme(scene.scheme()?);
     if let Some(p) = scene.pluck() {
         s.pluck(&p).map_err(scoped)?;
     }
@@ -47,7 +48,7 @@ pub fn build_string(scene: &StringSpec) -> Result<StiffString, String> {
 }
 
 /// Builds the model of `scene` (validated).
-pub fn build_source(scene: &Scene) -> Result<SceneSource, String> {
+pub fn build_source(scene: &Scene) -> Result<SceneSource, ParamError> {
     match (&scene.plate, &scene.string) {
         (Some(plate), None) => {
             let voice = PlateVoice::build(plate)?;
@@ -74,12 +75,13 @@ pub fn build_source(scene: &Scene) -> Result<SceneSource, String> {
             n_psi: 0,
             snapshots: string.effective_snapshots(),
         }),
-        _ => Err(scene
-            .validate()
-            .err()
-            .map_or("the scene needs exactly one model table".into(), |e| {
-                e.to_string()
-            })),
+        _ => Err(scene.validate().err().unwrap_or_else(|| {
+            ParamError::new(
+                "plate",
+                "missing",
+                "a scene needs exactly one model table: [plate] or [string]",
+            )
+        })),
     }
 }
 
@@ -88,7 +90,7 @@ pub fn build_source(scene: &Scene) -> Result<SceneSource, String> {
 pub fn render_scene(
     scene: &Scene,
     progress: impl FnMut(f64),
-) -> Result<(Rendered, RenderReport), String> {
+) -> Result<(Rendered, RenderReport), Error> {
     let mut built = build_source(scene)?;
     let gain = 10f64.powf(scene.output.gain_db / 20.0);
     let rendered = render_with_shapes(

@@ -5,13 +5,16 @@
 //! Runs on the offline render thread after the run (allocates).
 
 use super::source::ShapeSnapshot;
+use crate::error::Error;
 use crate::plot::{write_png, Mark, Panel, Series};
 use std::path::Path;
 
 /// Writes the shape figure of `shapes` to `path` (PNG). Displacements are drawn in mm.
-pub fn write_shape_png(path: &Path, title: &str, shapes: &[ShapeSnapshot]) -> Result<(), String> {
+pub fn write_shape_png(path: &Path, title: &str, shapes: &[ShapeSnapshot]) -> Result<(), Error> {
     let Some(first) = shapes.first() else {
-        return Err("no shape snapshots to plot".into());
+        return Err(Error::Empty {
+            what: "shape snapshots to plot",
+        });
     };
     let length = first.x.last().copied().unwrap_or(1.0);
     let obstacle = &first.obstacle;
@@ -57,5 +60,5 @@ pub fn write_shape_png(path: &Path, title: &str, shapes: &[ShapeSnapshot]) -> Re
             z,
         ));
     }
-    write_png(path, title, &panels, 1, (1100, 380)).map_err(|e| e.to_string())
+    Ok(write_png(path, title, &panels, 1, (1100, 380))?)
 }

@@ -1,5 +1,6 @@
 //! WAV output through `hound`: 32-bit float or 24-bit integer PCM, any channel count.
 
+use crate::error::Error;
 use std::path::Path;
 
 /// Sample format of a written WAV file.
@@ -17,10 +18,12 @@ pub fn write_wav(
     channels: &[Vec<f64>],
     sample_rate: u32,
     format: WavFormat,
-) -> Result<(), String> {
+) -> Result<(), Error> {
     let n_ch = channels.len();
     if n_ch == 0 {
-        return Err("no channels to write".into());
+        return Err(Error::Empty {
+            what: "channels to write",
+        });
     }
     let len = channels[0].len();
     let (bits, sample_format) = match format {
@@ -33,7 +36,10 @@ pub fn write_wav(
         bits_per_sample: bits,
         sample_format,
     };
-    let ctx = |e: hound::Error| format!("writing {}: {e}", path.display());
+    let ctx = |source: hound::Error| Error::Wav {
+        path: path.to_path_buf(),
+        source,
+    };
     let mut w = hound::WavWriter::create(path, spec).map_err(ctx)?;
     let peak = channels
         .iter()

@@ -17,6 +17,8 @@ pub use plate::PlateSpec;
 pub use quality::{Quality, QualityMode};
 pub use string::StringSpec;
 
+pub use crate::error::{SceneError, SetError};
+
 use crate::error::{check_closed, ParamError};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -74,41 +76,13 @@ pub struct Scene {
     pub quality: Option<Quality>,
 }
 
-/// Errors while loading a scene.
-#[derive(Debug)]
-pub enum SceneError {
-    /// The file could not be read.
-    Io(String),
-    /// The TOML is malformed, has an unknown field or a value of the wrong type.
-    Parse(String),
-    /// A value is out of range.
-    Invalid(ParamError),
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            SceneError::Io(s) | SceneError::Parse(s) => f.write_str(s),
-            SceneError::Invalid(e) => write!(f, "{e}"),
-        }
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl From<ParamError> for SceneError {
-    fn from(e: ParamError) -> Self {
-        SceneError::Invalid(e)
-    }
-}
-
 impl Scene {
     /// Parses TOML text, applies `overrides` (`dotted.path=value`), and validates.
     pub fn from_toml(text: &str, origin: &str, overrides: &[String]) -> Result<Self, SceneError> {
         let mut value: toml::Table =
             toml::from_str(text).map_err(|e| SceneError::Parse(format!("{origin}: {e}")))?;
         for o in overrides {
-            overrides::apply(&mut value, o).map_err(SceneError::Parse)?;
+            overrides::apply(&mut value, o)?;
         }
         let scene: Scene =
             serde_path_to_error::deserialize(toml::Value::Table(value)).map_err(|e| {
@@ -127,8 +101,10 @@ impl Scene {
 
     /// Reads and parses a scene file; the name defaults to the file stem.
     pub fn load(path: &Path, overrides: &[String]) -> Result<Self, SceneError> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| SceneError::Io(format!("reading scene {}: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
         let mut scene = Self::from_toml(&text, &path.display().to_string(), overrides)?;
         if scene.name.is_empty() {
             scene.name = path

@@ -1,20 +1,24 @@
 //! `--set dotted.path=value` overrides applied to a parsed TOML table before deserialisation.
 
+use crate::error::SetError;
 use toml::{Table, Value};
 
 /// Sets `path` (dot-separated keys, creating tables as needed) to `value` in `table`.
 ///
 /// `value` is parsed as a TOML value (`0.5`, `true`, `"text"`, `[1, 2]`, `{ r = 0.9 }`); if
 /// that fails it is taken as a bare string (so `--set plate.scheme=stormer-verlet` works).
-pub fn apply(table: &mut Table, assignment: &str) -> Result<(), String> {
+pub fn apply(table: &mut Table, assignment: &str) -> Result<(), SetError> {
     let (path, raw) = assignment
         .split_once('=')
-        .ok_or_else(|| format!("invalid --set `{assignment}`: expected dotted.path=value"))?;
+        .ok_or_else(|| SetError::NoValue {
+            assignment: assignment.to_string(),
+        })?;
     let keys: Vec<&str> = path.trim().split('.').collect();
     if keys.iter().any(|k| k.is_empty()) {
-        return Err(format!(
-            "invalid --set `{assignment}`: empty key in `{path}`"
-        ));
+        return Err(SetError::EmptyKey {
+            assignment: assignment.to_string(),
+            path: path.to_string(),
+        });
     }
     let value = parse_value(raw.trim());
     let mut cur = table;
@@ -29,11 +33,11 @@ pub fn apply(table: &mut Table, assignment: &str) -> Result<(), String> {
         cur = match entry {
             Value::Table(t) => t,
             other => {
-                return Err(format!(
-                    "invalid --set `{assignment}`: `{}` is a {}, not a table",
-                    keys[..=i].join("."),
-                    other.type_str()
-                ))
+                return Err(SetError::NotATable {
+                    assignment: assignment.to_string(),
+                    prefix: keys[..=i].join("."),
+                    kind: other.type_str(),
+                })
             }
         };
     }
@@ -63,7 +67,10 @@ mod tests {
         assert_eq!(t["a"]["b"].as_float(), Some(2.5));
         assert_eq!(t["a"]["c"]["d"].as_str(), Some("stormer-verlet"));
         assert_eq!(t["e"].as_array().map(|a| a.len()), Some(2));
-        assert!(apply(&mut t, "a.b.x=1").unwrap_err().contains("a.b"));
+        assert!(apply(&mut t, "a.b.x=1")
+            .unwrap_err()
+            .to_string()
+            .contains("a.b"));
         assert!(apply(&mut t, "nothing").is_err());
         assert!(apply(&mut t, "a..b=1").is_err());
     }

@@ -96,15 +96,7 @@ impl PlateCase {
 fn run_case(c: PlateCase, steps: usize) -> Result<RunResult, ParamError> {
     let scene = c.scene();
     scene.validate()?;
-    let mut voice = PlateVoice::build(&scene).map_err(|msg| {
-        // PlateVoice reports its model's ParamError as text: keep it whole when it is one
-        // (it names field, value and range); anything else is classified as an unclear error.
-        if msg.contains("invalid value for `") {
-            ParamError::new("plate", "scene", msg)
-        } else {
-            ParamError::new("", "", msg)
-        }
-    })?;
+    let mut voice = PlateVoice::build(&scene)?;
     let conservative = voice.is_conservative();
     let mut out = vec![vec![0.0; BLOCK]; voice.channels()];
     let mut meter = BalanceMeter::default();

@@ -63,12 +63,18 @@ fn preset_study_measures_differences_and_nothing_else() {
 #[test]
 fn preset_overrides_are_checked() {
     let gong = Preset::factory_named("gong-40N").unwrap();
-    let e = with_overrides(&gong, &["modes=100000".into()]).unwrap_err();
+    let e = with_overrides(&gong, &["modes=100000".into()])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("modes") && e.contains("100000"), "{e}");
-    let e = with_overrides(&gong, &["no_such_key=1".into()]).unwrap_err();
+    let e = with_overrides(&gong, &["no_such_key=1".into()])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no_such_key"), "{e}");
-    let e = with_overrides(&gong, &["modes".into()]).unwrap_err();
+    let e = with_overrides(&gong, &["modes".into()])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("KEY=VALUE"), "{e}");
-    let e = render_preset(&gong, f64::NAN).unwrap_err();
+    let e = render_preset(&gong, f64::NAN).unwrap_err().to_string();
     assert!(e.contains("seconds") && e.contains("0.01 to 60"), "{e}");
 }

@@ -140,9 +140,11 @@ fn error_is_clear(e: &SceneError) -> bool {
         SceneError::Invalid(p) => {
             !p.field.is_empty() && !p.value.is_empty() && !p.allowed.is_empty()
         }
-        SceneError::Parse(m) | SceneError::Io(m) => {
-            m.contains("line ") || m.contains('`') || m.contains("invalid --set")
-        }
+        SceneError::Parse(m) => m.contains("line ") || m.contains('`'),
+        // Names the file.
+        SceneError::Io { path, .. } => !path.as_os_str().is_empty(),
+        // Quotes the override (`invalid --set `...``).
+        SceneError::Set(_) => true,
     }
 }
 
@@ -156,7 +158,10 @@ fn build_and_step(scene: &Scene) -> Result<(), TestCaseError> {
         return Ok(());
     }
     match PlateVoice::build(plate) {
-        Err(msg) => prop_assert!(msg.contains('`'), "unclear build error: {msg}"),
+        Err(e) => prop_assert!(
+            !e.field.is_empty() && !e.value.is_empty() && !e.allowed.is_empty(),
+            "unclear build error: {e:?}"
+        ),
         Ok(mut v) => {
             let mut out = vec![vec![0.0; 64]; v.channels()];
             v.process(&mut out, 64);

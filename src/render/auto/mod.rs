@@ -29,12 +29,13 @@ pub use report::{AutoReport, CandidateResult};
 pub use size::{string_size, ModelSize};
 pub use verify::select;
 
+use crate::error::Error;
 use crate::scene::Scene;
 
 /// The scene as `noether auto --write` saves it: `reduced` (from [`select`]) as TOML, headed by
 /// comment lines giving the selection's tolerance, its measured errors and its reasons.
-pub fn reduced_toml(reduced: &Scene, report: &AutoReport, origin: &str) -> Result<String, String> {
-    let body = toml::to_string(reduced).map_err(|e| format!("writing the reduced scene: {e}"))?;
+pub fn reduced_toml(reduced: &Scene, report: &AutoReport, origin: &str) -> Result<String, Error> {
+    let body = toml::to_string(reduced)?;
     let mut head = format!(
         "# Reduced by `noether auto` from {origin}: {} (full model {}).\n# Verified over {} s: \
          LSD {:.4} dB (tolerance {} dB), L2(50 ms) {:.3e}; excerpt speed-up {:.2}.\n",

@@ -7,6 +7,7 @@
 
 use super::size::ModelSize;
 use super::spectrum::{band_of, count_below, mirror_in_plane_count, strike_band, transverse};
+use crate::error::Error;
 use crate::scene::plate::{Excitation, PlateScheme, PlateSpec, Symmetry};
 use crate::scene::Scene;
 
@@ -77,14 +78,13 @@ fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
 
 /// Builds the ladder for `scene` (a validated plate or string scene; strings go to
 /// [`super::plan_string::plan_string`]).
-pub fn plan(scene: &Scene) -> Result<Plan, String> {
+pub fn plan(scene: &Scene) -> Result<Plan, Error> {
     if scene.string.is_some() {
         return super::plan_string::plan_string(scene);
     }
-    let p = scene
-        .plate
-        .as_ref()
-        .ok_or("quality = \"auto\" is implemented for plate scenes only")?;
+    let p = scene.plate.as_ref().ok_or(Error::WrongModel(
+        "quality = \"auto\" is implemented for plate scenes only",
+    ))?;
     let given_mirror = p.symmetry == Symmetry::StrikeMirror;
     // The scene's basis, in its own symmetry.
     let all = transverse(

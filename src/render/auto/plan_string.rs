@@ -9,6 +9,7 @@
 
 use super::ladder::{divisor_rate, Candidate, Plan, HEARING_LIMIT};
 use super::size::{string_size, ModelSize};
+use crate::error::Error;
 use crate::models::string::StringParams;
 use crate::scene::plate::Symmetry;
 use crate::scene::Scene;
@@ -63,11 +64,11 @@ pub fn string_cost(s: &ModelSize) -> f64 {
 }
 
 /// Builds the ladder for `scene` (a validated string scene).
-pub fn plan_string(scene: &Scene) -> Result<Plan, String> {
+pub fn plan_string(scene: &Scene) -> Result<Plan, Error> {
     let st = scene
         .string
         .as_ref()
-        .ok_or("plan_string needs a string scene")?;
+        .ok_or(Error::WrongModel("plan_string needs a string scene"))?;
     let p = st.params();
     let full_n = st.modes;
     let full = string_size(full_n, st.sim_rate, mode_hz(&p, full_n));

@@ -3,6 +3,7 @@
 //!
 //! Plain data; any thread.
 
+use crate::error::Error;
 use crate::scene::plate::Symmetry;
 use crate::scene::string::StringLosses;
 use crate::scene::Scene;
@@ -43,32 +44,30 @@ impl ModelSize {
     /// (the result is a plain scene: rendering it renders exactly this model). Errors if the
     /// scene has no model of this kind or the result does not validate. A string's per-mode
     /// damping list keeps its first `modes` values (the same modes).
-    pub fn apply(&self, scene: &Scene) -> Result<Scene, String> {
+    pub fn apply(&self, scene: &Scene) -> Result<Scene, Error> {
         let mut s = scene.clone();
         if self.string {
-            let st = s
-                .string
-                .as_mut()
-                .ok_or("a string model size applied to a scene without [string]")?;
+            let st = s.string.as_mut().ok_or(Error::WrongModel(
+                "a string model size applied to a scene without [string]",
+            ))?;
             st.modes = self.n_phi;
             st.sim_rate = self.sim_rate;
             if let StringLosses::PerMode { sigma } = &mut st.losses {
                 sigma.truncate(self.n_phi);
             }
             s.quality = None;
-            s.validate().map_err(|e| e.to_string())?;
+            s.validate()?;
             return Ok(s);
         }
-        let p = s
-            .plate
-            .as_mut()
-            .ok_or("quality = \"auto\" is implemented for plate scenes only")?;
+        let p = s.plate.as_mut().ok_or(Error::WrongModel(
+            "quality = \"auto\" is implemented for plate scenes only",
+        ))?;
         p.n_phi = self.n_phi;
         p.n_psi = self.n_psi;
         p.symmetry = self.symmetry;
         p.sim_rate = self.sim_rate;
         s.quality = None;
-        s.validate().map_err(|e| e.to_string())?;
+        s.validate()?;
         Ok(s)
     }
 

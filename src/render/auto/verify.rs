@@ -10,6 +10,7 @@
 use super::plan::plan;
 use super::report::{AutoReport, CandidateResult};
 use super::size::ModelSize;
+use crate::error::Error;
 use crate::render::accuracy::{log_spectral_distance, relative_l2, L2_SECONDS};
 use crate::render::offline::Rendered;
 use crate::render::scene::render_scene;
@@ -46,27 +47,27 @@ fn build_seconds(report: &crate::render::report::RenderReport) -> f64 {
 /// Selects the model of `scene` (a plate or string scene; its `[quality]` table gives the tolerance, the
 /// default table with `mode = "auto"` when it has none): returns the report and the reduced
 /// scene (full duration, no `[quality]` table) to render. `log` receives one line per render.
-pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, Scene), String> {
+pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, Scene), Error> {
     let start = Instant::now();
     let q = scene.quality.unwrap_or(Quality {
         mode: QualityMode::Auto,
         ..Quality::default()
     });
-    q.validate().map_err(|e| e.to_string())?;
+    q.validate()?;
     let plan = plan(scene)?;
     let excerpt = q.excerpt_seconds.min(scene.output.seconds);
     let rate = scene.output.sample_rate;
-    let short = |size: &ModelSize| -> Result<Scene, String> {
+    let short = |size: &ModelSize| -> Result<Scene, Error> {
         let mut s = size.apply(scene)?;
         s.output.seconds = excerpt;
         Ok(s)
     };
     let (full_r, full_rep) = render_scene(&short(&plan.full)?, |_| {})?;
     if full_rep.nan_count > 0 {
-        return Err(format!(
-            "quality = \"auto\": the full model diverged on the {excerpt} s excerpt ({} non-finite values)",
-            full_rep.nan_count
-        ));
+        return Err(Error::AutoDiverged {
+            excerpt_seconds: excerpt,
+            non_finite: full_rep.nan_count,
+        });
     }
     log(&format!(
         "full model {}: {:.3} s wall for the {excerpt} s excerpt",

@@ -37,14 +37,19 @@ pub struct PlateVoice {
     info: PlateDetails,
 }
 
-fn map_err(e: ParamError) -> String {
-    e.to_string()
+/// Names a model-level field (`n_phi`, `force_weights`) as the scene's dotted field.
+fn scoped(mut e: ParamError) -> ParamError {
+    e.field = format!("plate.{}", e.field);
+    e
 }
 
 impl PlateVoice {
     /// Builds the voice for `scene` (validated), computing or loading its modal data.
-    pub fn build(scene: &PlateSpec) -> Result<Self, String> {
-        scene.validate().map_err(map_err)?;
+    ///
+    /// Errors name the field (dotted, as in the scene: `plate.…`), its value and the allowed
+    /// range.
+    pub fn build(scene: &PlateSpec) -> Result<Self, ParamError> {
+        scene.validate()?;
         let start = std::time::Instant::now();
         let nu = scene.material.poisson;
         let linear_only = scene.n_psi == 0;
@@ -57,8 +62,8 @@ impl PlateVoice {
             scene.n_psi,
             scene.symmetry,
         )
-        .map_err(|e| format!("plate: {e}"))?;
-        let basis = ModalCache::default().basis(&key).map_err(map_err)?;
+        .map_err(scoped)?;
+        let basis = ModalCache::default().basis(&key)?;
         // The mirror basis lives in the frame where the strike is at θ = 0: every position's
         // angle is taken relative to the strike's.
         let theta0 = if scene.shape.is_circular() && scene.symmetry == Symmetry::StrikeMirror {
@@ -85,7 +90,7 @@ impl PlateVoice {
         let omega: Vec<f64> = lambda2.iter().map(|l2| l2 * omega_scale).collect();
         let damping = match scene.damping {
             Damping::None => vec![0.0; omega.len()],
-            Damping::Power { a, b, c0 } => damping_law(&omega, a, b, c0).map_err(map_err)?,
+            Damping::Power { a, b, c0 } => damping_law(&omega, a, b, c0)?,
             Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
             Damping::T60 { seconds } => vec![2.0 * 1000f64.ln() / seconds; omega.len()],
         };
@@ -113,7 +118,7 @@ impl PlateVoice {
                 peak_force,
             } => (
                 at,
-                ForceSignal::Strike(RaisedCosine::new(duration, peak_force).map_err(map_err)?),
+                ForceSignal::Strike(RaisedCosine::new(duration, peak_force)?),
             ),
             Excitation::Impulse { at, .. } => (at, ForceSignal::None),
             // No force: the strike weights are unused (the centre is a valid placeholder).
@@ -137,8 +142,7 @@ impl PlateVoice {
                 };
                 Pickup::new(weights(&p.at), kind)
             })
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(map_err)?;
+            .collect::<Result<Vec<_>, _>>()?;
         let nnz = basis.coupling.nnz();
         let strike_weights = weights(&at);
         // A Dirac impulse J at x0 is the initial velocity q̇_s(0) = J Φ_s(x0) / ρh.
@@ -164,9 +168,9 @@ impl PlateVoice {
             Excitation::Strike { .. } => None,
         };
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
-            .map_err(|e| format!("plate: {e}"))?;
+            .map_err(scoped)?;
         if let Some((q0, v0)) = initial_state {
-            model.set_state(&q0, &v0).map_err(map_err)?;
+            model.set_state(&q0, &v0)?;
         }
         let two_pi = std::f64::consts::TAU;
         let info = PlateDetails {
