@@ -6,6 +6,7 @@
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod auto;
+mod cli_output;
 mod preset_accuracy;
 mod scene_assets;
 mod scene_errors;
