@@ -10,7 +10,7 @@
 //! - [`analysis`]: the core's measurements plus spectrograms;
 //! - [`lab`]: the lecture's experiments as runnable, reportable configurations;
 //! - [`plot`]: PNG figures (waveforms, energies, phase portraits, spectrograms);
-//! - [`stress`]: sweeps of every model and scheme over extreme parameters (`tests/extremes.rs`,
+//! - [`stress`]: sweeps of every model and scheme over extreme parameters (`tests/robustness/extremes.rs`,
 //!   `noether stress`).
 //!
 //! The core's modules are re-exported under their own names ([`engine`], [`models`],

@@ -1,4 +1,4 @@
-//! `noether stress`: the extremes sweep of `tests/extremes.rs`, denser and longer, with the
+//! `noether stress`: the extremes sweep of `tests/robustness/extremes.rs`, denser and longer, with the
 //! summary table (runs, refusals, failures, worst energy error per family).
 
 use clap::{Args, ValueEnum};

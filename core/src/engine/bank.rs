@@ -28,7 +28,7 @@ use std::sync::Arc;
 pub const CHUNK: usize = 64;
 
 /// Output normalisation of plates: the pickups read velocity (m/s), divided by this
-/// reference (measured by `tests/engine.rs::presets_sound_and_decay`, key 60, velocity 1:
+/// reference (measured by `tests/engine/engine.rs::presets_sound_and_decay`, key 60, velocity 1:
 /// gong-40N peaks at 0.58, gong-80N at 0.87, rect-plate at 0.33 full scale).
 pub const PLATE_VELOCITY_REF: f64 = 1.0;
 

@@ -44,7 +44,7 @@
 //! # Threads and real-time rules
 //!
 //! `process` allocates nothing, takes no lock and does no I/O (checked by
-//! `tests/engine_alloc.rs` with `assert_no_alloc`); its work is bounded: the block is split
+//! `tests/engine/engine_alloc.rs` with `assert_no_alloc`); its work is bounded: the block is split
 //! into chunks of [`CHUNK`] host samples; each chunk runs every sounding voice for the
 //! simulation steps the resampler needs (at most `ceil(CHUNK · fs_sim / fs_host) + 2R`) and
 //! each step is bounded (plates: one Cholesky of fixed size; strings: at most

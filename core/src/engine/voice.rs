@@ -40,7 +40,7 @@ use std::sync::Arc;
 /// and no elastic model holds. Voices get there only by divergence of a conditionally stable
 /// scheme or by parametric pumping (stiffness or tension automated faster than the voice
 /// rings); without the ceiling their output reached inf in f32 before their f64 state
-/// overflowed (found by `tests/soak.rs`).
+/// overflowed (found by `tests/robustness/soak.rs`).
 pub const VOICE_CEILING: f64 = 1e5;
 
 /// Per-bank data of a plate model: the dimensionless modal data and the mode values at the

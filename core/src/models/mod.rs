@@ -21,7 +21,7 @@ pub mod string;
 /// still leave a normal number. Physically it is nothing: audible amplitudes are 1e-9 to 1e-3
 /// and 1e-60 is fifty orders below hearing; the energy a flush removes is of order
 /// `ω² · 1e-120` J, far below the round-off of any audible state, so the energy balances are
-/// unaffected (checked in `tests/denormals.rs`). Chosen over setting the CPU's flush-to-zero
+/// unaffected (checked in `tests/robustness/denormals.rs`). Chosen over setting the CPU's flush-to-zero
 /// flag because that is per-thread, platform-specific state the engine would have to set and
 /// restore around every host callback, and it would not cover the offline renderer.
 pub const FLUSH_TO_ZERO_BELOW: f64 = 1e-60;

@@ -64,7 +64,7 @@ fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
                 "symmetry: strike-mirror: the only excitation is a point force at angle {} rad \
                  on a circular plate, so the motion stays even about that diameter and the \
                  mirror basis is the full model restricted to it, exactly (README \
-                 \"strike-mirror\"; tests/plate_mirror.rs: equal to 1e-9 of the peak); it \
+                 \"strike-mirror\"; tests/plates/plate_mirror.rs: equal to 1e-9 of the peak); it \
                  keeps the cos n(θ - θ_strike) modes only",
                 at.angle.unwrap_or(0.0)
             ),

@@ -114,7 +114,7 @@ impl CircularPlateSpec {
 /// `I_n` terms) with rate up to `κ = 2 λ_max + ζ_max`; we take `Q = 40 + 0.75 κ`, rounded up to
 /// a multiple of 8 (160 for the 1000/300 gong, κ ≈ 160). Measured margin: for that basis
 /// `Q = 96` already agrees with `Q = 480` to 1e-14 of max|H|; the doubling test in
-/// `tests/modal_circular.rs` checks `Q` against `2Q`.
+/// `tests/plates/modal_circular.rs` checks `Q` against `2Q`.
 pub fn default_quad_points(edge: CircularEdge, nu: f64, n_phi: usize, n_psi: usize) -> usize {
     default_quad_points_with(edge, nu, n_phi, n_psi, false)
 }

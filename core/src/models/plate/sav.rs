@@ -45,7 +45,7 @@
 //! positive definite, which the exact linear part gives for every `h` with `ω_s h` away from
 //! multiples of `π` (refused by validation, as for the other exact schemes). What is *not*
 //! unconditional is accuracy: `ψ(n-½)` drifts from `√(2U(q))` by `O(h²)`, and the drift grows
-//! with the nonlinearity's stiffness relative to `fs` (measured in `tests/plate_sav.rs`).
+//! with the nonlinearity's stiffness relative to `fs` (measured in `tests/plates/plate_sav.rs`).
 //!
 //! Threads: built with the model on a worker thread; [`SavStep::step`] runs on the audio thread
 //! without allocating.

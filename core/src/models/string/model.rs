@@ -33,7 +33,7 @@ pub const ROW_ACTIVE_LIMIT: usize = 8;
 ///
 /// Chosen at build ([`StiffString::new`]: `Rows` when at most [`ROW_LIMIT`] nodes are needed);
 /// switchable with [`StiffString::set_grid_synthesis`]. Both give the same trajectory to
-/// round-off (`tests/string_rows.rs`).
+/// round-off (`tests/strings/string_rows.rs`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum GridSynthesis {
     /// One DST of the whole grid every step (`O(N log N)`); every grid value is current.
