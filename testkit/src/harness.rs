@@ -562,11 +562,30 @@ pub fn lecture_string(
     obstacle: Obstacle,
     scheme: ContactScheme,
 ) -> StiffString {
+    lecture_string_with_law(
+        intervals,
+        fs,
+        losses,
+        obstacle,
+        ContactLaw::lecture(),
+        scheme,
+    )
+}
+
+/// [`lecture_string`] with the contact law `law` instead of the lecture's.
+pub fn lecture_string_with_law(
+    intervals: usize,
+    fs: f64,
+    losses: Losses,
+    obstacle: Obstacle,
+    law: ContactLaw,
+    scheme: ContactScheme,
+) -> StiffString {
     let mut s = StiffString::new(&StringConfig {
         params: StringParams::lecture_guitar(intervals, fs),
         losses,
         obstacle,
-        contact: ContactLaw::lecture(),
+        contact: law,
         outputs: vec![
             OutputChannel::Pickup {
                 position: 0.37,

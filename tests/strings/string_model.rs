@@ -5,8 +5,8 @@
 
 use noether::analysis::frequency::measure;
 use noether::models::string::{
-    ContactLaw, Losses, ModalMap, Obstacle, OutputChannel, Quantity, Readout, StiffString,
-    Stiffness, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, ModalMap, Obstacle, OutputChannel, Quantity, Readout,
+    StiffString, Stiffness, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::offline::render;
 use noether::render::source::RenderSource;
@@ -17,26 +17,13 @@ use noether::render::source::RenderSource;
 /// lecture's contact law (K = 1e13, α = 1.5) and the given grid, rate, losses and obstacle;
 /// outputs: grid displacement at 0.37 m, modal velocity at 0.37 m, obstacle force.
 fn lecture(n: usize, fs: f64, losses: Losses, obstacle: Obstacle) -> StiffString {
-    StiffString::new(&StringConfig {
-        params: StringParams::lecture_guitar(n, fs),
+    noether_testkit::harness::lecture_string(
+        n,
+        fs,
         losses,
         obstacle,
-        contact: ContactLaw::lecture(),
-        outputs: vec![
-            OutputChannel::Pickup {
-                position: 0.37,
-                quantity: Quantity::Displacement,
-                readout: Readout::Grid,
-            },
-            OutputChannel::Pickup {
-                position: 0.37,
-                quantity: Quantity::Velocity,
-                readout: Readout::Modal,
-            },
-            OutputChannel::ObstacleForce,
-        ],
-    })
-    .unwrap()
+        ContactScheme::NewtonDiscreteGradient,
+    )
 }
 
 /// The lecture's pluck: triangle of 1 mm at 0.3 m, at rest.

@@ -6,8 +6,8 @@
 //! no allocation: `string_alloc.rs` runs both schemes.
 
 use noether::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
-    StiffString, StrikeForce, StringConfig, StringParams, TrianglePluck,
+    ContactLaw, ContactScheme, Losses, Obstacle, SitarBridge, StiffString, StrikeForce,
+    TrianglePluck,
 };
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
@@ -33,28 +33,7 @@ fn string(
     law: ContactLaw,
     scheme: ContactScheme,
 ) -> StiffString {
-    let mut s = StiffString::new(&StringConfig {
-        params: StringParams::lecture_guitar(n, fs),
-        losses,
-        obstacle,
-        contact: law,
-        outputs: vec![
-            OutputChannel::Pickup {
-                position: 0.37,
-                quantity: Quantity::Displacement,
-                readout: Readout::Grid,
-            },
-            OutputChannel::Pickup {
-                position: 0.37,
-                quantity: Quantity::Velocity,
-                readout: Readout::Modal,
-            },
-            OutputChannel::ObstacleForce,
-        ],
-    })
-    .unwrap();
-    s.set_contact_scheme(scheme);
-    s
+    noether_testkit::harness::lecture_string_with_law(n, fs, losses, obstacle, law, scheme)
 }
 
 /// The lecture's pluck: triangle of 1 mm at 0.3 m, at rest.
