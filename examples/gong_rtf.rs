@@ -1,5 +1,5 @@
-//! Real-time factor of one gong voice (issue 6 target (a)): the lecture's material, a = 0.4 m,
-//! h = 1 mm, free edge, 10 ms strike at 40 N, power-law damping, simulated at `fs` (default
+//! Real-time factor of one gong voice (the real-time gong target): the lecture's material,
+//! a = 0.4 m, h = 1 mm, free edge, 10 ms strike at 40 N, power-law damping, simulated at `fs` (default
 //! 48 kHz), on one thread.
 //!
 //! `cargo run --release --example gong_rtf -- SCHEME FS N_PHI[:N_PSI] ...`, for example

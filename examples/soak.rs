@@ -1,4 +1,4 @@
-//! The long real-time soak (issue 7): the driver of `tests/robustness/soak.rs`
+//! The long real-time soak: the driver of `tests/robustness/soak.rs`
 //! (`noether_testkit::soak`) for as long as asked, with `assert_no_alloc` around every
 //! `process_events` call (live in release too: this crate's dev-dependency turns off the crate's
 //! `disable_release` feature, so an allocation inside `process` aborts the run).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Bad plugin state blobs through the CLAP host's state path (issue 7, "Plugin state"):
+# Bad plugin state blobs through the CLAP host's state path:
 # `bash plugin/ci/state_blobs.sh HOST PLUGIN.clap OUTDIR`, called by .ci/plugin.
 # Each blob is the stream a host stores for a nice-plug plugin (8-byte little-endian length, then
 # the JSON state). Unparsable blobs (corrupt, truncated, bad length, empty) must be refused with

@@ -1,4 +1,4 @@
-//! Loading a saved plugin state robustly (issue 7, "Plugin state").
+//! Loading a saved plugin state robustly.
 //!
 //! nice-plug stores the state as JSON ([`PluginState`]: the plugin version, one plain value per
 //! parameter key, and the persisted fields) and loads it in two steps: it parses the JSON, then

@@ -1,5 +1,5 @@
 //! The `[quality]` table of a scene: render the model as given, or let `noether` choose the
-//! cheapest model that stays within a stated distance of it (`mode = "auto"`, issue 6).
+//! cheapest model that stays within a stated distance of it (`mode = "auto"`).
 //!
 //! ```toml
 //! [quality]

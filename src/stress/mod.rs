@@ -1,5 +1,5 @@
-//! Stability at the extremes: sweeps of every model and scheme over extreme parameters
-//! (issue 7), shared by `tests/robustness/extremes.rs` (bounded) and `noether stress` (denser, longer).
+//! Stability at the extremes: sweeps of every model and scheme over extreme parameters,
+//! shared by `tests/robustness/extremes.rs` (bounded) and `noether stress` (denser, longer).
 //!
 //! Each case is built from plain parameters and run for a bounded number of steps inside
 //! `catch_unwind`. A case ends in one of four ways:

@@ -1,4 +1,4 @@
-//! `quality = "auto"` (issue 6): the model chosen is within the stated tolerance of the full
+//! `quality = "auto"`: the model chosen is within the stated tolerance of the full
 //! model, measured here by rendering both again (not read from the report); a tolerance no
 //! truncation can meet keeps the full model (or an exact restriction of it); the strike-mirror
 //! basis is chosen exactly when the scene allows it; the rate rule holds; bad tolerances are

@@ -1,4 +1,4 @@
-//! Bad command lines (issue 7): missing and truncated scene files, malformed and out-of-range
+//! Bad command lines: missing and truncated scene files, malformed and out-of-range
 //! `--set` values, conditionally unstable lab settings. Each must exit with failure (status 2
 //! for refused input) and an error naming the file, field or argument, never panic.
 

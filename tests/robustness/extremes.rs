@@ -1,4 +1,4 @@
-//! Stability at the extremes (issue 7): every model and scheme on main swept over extreme
+//! Stability at the extremes: every model and scheme on main swept over extreme
 //! parameters (see `noether::stress` for the grids). Each case: no NaN/Inf, no panic (caught
 //! and counted), conservative schemes close their power balance to
 //! `noether::stress::ENERGY_TOLERANCE` (1e-8 relative to the largest energy of the run, see its

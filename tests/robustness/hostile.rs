@@ -1,4 +1,4 @@
-//! Hostile input (issue 7): a proptest fuzz of the scene parser and of model construction.
+//! Hostile input: a proptest fuzz of the scene parser and of model construction.
 //!
 //! Scene fuzz: a shipped scene is mutated by random `--set` overrides (the CLI's own route:
 //! unknown fields, wrong types, NaN/Inf, negative and zero sizes, absurd mode counts, valid

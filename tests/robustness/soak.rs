@@ -1,4 +1,4 @@
-//! The bounded real-time soak (`noether_testkit::soak`, issue 7): a seeded random host drives the
+//! The bounded real-time soak (`noether_testkit::soak`): a seeded random host drives the
 //! engine for `NOETHER_SOAK_SECONDS` of wall time (default 30; the whole test stays under
 //! about a minute on the loaded two-core machine) with automation of every parameter each
 //! block, note storms, rebuild bursts (model, modes, rate, scheme, polyphony) and host rate

@@ -78,8 +78,8 @@ fn a_string_scene_renders_with_contact_figures() {
 }
 
 /// Lossless with contact: the discrete energy is conserved to 1e-10 of its size (the bound of
-/// issue 4; the accumulation of round-off over 1e5 steps is ~1e-13) through the render loop at
-/// 48 kHz and at the lecture's 2 MHz, while contact energy is really present.
+/// the string model's tests; the accumulation of round-off over 1e5 steps is ~1e-13) through
+/// the render loop at 48 kHz and at the lecture's 2 MHz, while contact energy is really present.
 #[test]
 fn lossless_contact_keeps_energy_through_the_render_path() {
     for (fs, seconds) in [(48_000.0, 1.0), (2_000_000.0, 0.03)] {

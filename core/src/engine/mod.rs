@@ -1,6 +1,6 @@
 //! The real-time engine: a fixed pool of plate or string voices driven by notes, mixed to
 //! stereo and resampled to the host rate, with model building on a worker thread.
-//! No plugin, GUI or audio-device dependency (issue 5, engine side).
+//! No plugin, GUI or audio-device dependency.
 //!
 //! # API summary (stable; later changes are additive)
 //!

@@ -2,7 +2,7 @@
 //! mapping from parameters and note to the model's physical coefficients (pitch, size,
 //! material, damping, release), applied in place without allocating.
 //!
-//! Pitch (issue 5: "note number maps to pitch in a physically meaningful way"): with
+//! Pitch (the note number maps to pitch in a physically meaningful way): with
 //! `r = (A4 / 440) · 2^((key - root + bend) / 12)`,
 //! - plates scale their thickness, `h_note = r h`: `ω_s = λ_s² √(D/ρh) / a² ∝ h / a²`
 //!   (`D = E h³ / 12(1-ν²)`), so every partial moves by `r`; `Eh` and `ρh` follow `h_note`

@@ -1,4 +1,4 @@
-//! `quality = "auto"` (issue 6, "model only what a scene requires"): from a plate scene whose
+//! `quality = "auto"` (model only what a scene requires): from a plate scene whose
 //! `n_phi`, `n_psi`, `symmetry` and `sim_rate` describe the FULL model (or a string scene whose
 //! `modes` and `sim_rate` do), choose the cheapest reduced model whose render stays within the
 //! scene's tolerance of the full model's, and say why.

@@ -1,4 +1,4 @@
-//! The real-time soak (issue 7, "Real-time safety under load"): one seeded random driver
+//! The real-time soak (real-time safety under load): one seeded random driver
 //! plays the engine as a hostile host would, for a bounded wall time, and checks it.
 //!
 //! Every block: every parameter that applies without a rebuild is set to a random value over
