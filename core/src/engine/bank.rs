@@ -17,8 +17,8 @@ use crate::models::plate::basis::{BasisKey, PlateBasis};
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
 use crate::models::string::spec::{
-    StringContact, StringExcitation, StringLosses, StringObstacle, StringOutput, StringQuantity,
-    StringReadout, StringSpec,
+    StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
+    StringSpec,
 };
 use crate::models::string::{StiffString, ValetteLosses};
 use std::sync::Arc;
@@ -136,8 +136,8 @@ impl Bank {
                 ],
                 snapshot,
                 linear: n_psi == 0,
-                lambda2: basis.lambda2.clone(),
-                zeta4: basis.zeta4.clone(),
+                lambda2: basis.lambda2().to_vec(),
+                zeta4: basis.zeta4().to_vec(),
                 poisson: m.poisson,
             });
             let scheme = match v.index_of(ParamId::Scheme) {
@@ -211,12 +211,7 @@ impl Bank {
                 bending_stiffness: None,
                 modes,
                 sim_rate,
-                losses: StringLosses::Valette {
-                    air_viscosity: losses.air_viscosity,
-                    air_density: losses.air_density,
-                    viscoelastic_delta: losses.viscoelastic_delta,
-                    thermoelastic_q_inv: losses.thermoelastic_q_inv,
-                },
+                losses: losses.into(),
                 obstacle,
                 contact: StringContact {
                     stiffness: v.get(ParamId::ContactStiffness) as f64,

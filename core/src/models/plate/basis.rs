@@ -71,10 +71,6 @@ impl BasisKey {
 /// Read-only once built; shared (`Arc`) between the voices of a bank.
 #[derive(Debug, Clone)]
 pub struct PlateBasis {
-    /// `λ_s²` of each transverse mode (`ω_s = λ_s² √(D/ρh) / a²`).
-    pub lambda2: Vec<f64>,
-    /// `ζ_l⁴` of each in-plane mode.
-    pub zeta4: Vec<f64>,
     /// The coupling tensor `Ĥ^l_{i,j}`.
     pub coupling: Arc<CouplingTensor>,
     /// What the caches did (`hit`, `built and saved`, `memory`, ...), for reports.
@@ -87,12 +83,20 @@ impl PlateBasis {
     /// report `cache`.
     fn new(modes: Arc<dyn ModalBasis>, coupling: Arc<CouplingTensor>, cache: String) -> Self {
         Self {
-            lambda2: modes.lambda2().to_vec(),
-            zeta4: modes.zeta4().to_vec(),
             coupling,
             cache,
             shapes: modes,
         }
+    }
+
+    /// `λ_s²` of each transverse mode (`ω_s = λ_s² √(D/ρh) / a²`).
+    pub fn lambda2(&self) -> &[f64] {
+        self.shapes.lambda2()
+    }
+
+    /// `ζ_l⁴` of each in-plane mode.
+    pub fn zeta4(&self) -> &[f64] {
+        self.shapes.zeta4()
     }
 
     /// `Φ_s` of the unit plate at `p`: `(r, angle)` on circular plates, the angle in the
@@ -108,12 +112,12 @@ impl PlateBasis {
 
     /// `Φ_s(p)` of every transverse mode.
     pub fn phi_all(&self, p: &Position) -> Vec<f64> {
-        (0..self.lambda2.len()).map(|s| self.phi_at(s, p)).collect()
+        (0..self.n_phi()).map(|s| self.phi_at(s, p)).collect()
     }
 
     /// Number of transverse modes.
     pub fn n_phi(&self) -> usize {
-        self.lambda2.len()
+        self.shapes.n_phi()
     }
 }
 

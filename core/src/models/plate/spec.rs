@@ -41,6 +41,16 @@ pub enum Symmetry {
     StrikeMirror,
 }
 
+impl Symmetry {
+    /// The subspace's name in scenes and reports (`full`, `strike-mirror`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Symmetry::Full => "full",
+            Symmetry::StrikeMirror => "strike-mirror",
+        }
+    }
+}
+
 /// Isotropic material; fields left out take the lecture's steel values.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -405,6 +415,27 @@ impl PlateSpec {
             self.radius.unwrap_or(1.0)
         } else {
             self.lx.unwrap_or(1.0)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names reports print are the ones scenes spell (serde), for every variant.
+    #[test]
+    fn report_names_are_the_scene_spellings() {
+        for s in [Symmetry::Full, Symmetry::StrikeMirror] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.name(), "{s:?}");
+        }
+        for s in [
+            PlateScheme::ConservativeTheta1,
+            PlateScheme::ConservativeExact,
+            PlateScheme::StormerVerletExact,
+            PlateScheme::SavExact,
+        ] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.name(), "{s:?}");
         }
     }
 }

@@ -82,7 +82,7 @@ impl PlateVoice {
             };
             basis.phi_at(s, &in_frame)
         };
-        let (lambda2, zeta4) = (&basis.lambda2, &basis.zeta4);
+        let (lambda2, zeta4) = (basis.lambda2(), basis.zeta4());
         let cache = basis.cache.clone();
         let modal_seconds = start.elapsed().as_secs_f64();
         let a = scene.length_scale();
@@ -182,11 +182,7 @@ impl PlateVoice {
             cache,
             modal_seconds,
             scheme: scene.scheme.name().into(),
-            symmetry: match scene.symmetry {
-                Symmetry::Full => "full",
-                Symmetry::StrikeMirror => "strike-mirror",
-            }
-            .into(),
+            symmetry: scene.symmetry.name().into(),
         };
         Ok(Self {
             model,

@@ -127,6 +127,19 @@ pub struct StringContact {
     pub exponent: f64,
 }
 
+impl From<ValetteLosses> for StringLosses {
+    /// The Valette losses as a `[string.losses]` table (the inverse of [`StringSpec::config`]'s
+    /// conversion).
+    fn from(v: ValetteLosses) -> Self {
+        StringLosses::Valette {
+            air_viscosity: v.air_viscosity,
+            air_density: v.air_density,
+            viscoelastic_delta: v.viscoelastic_delta,
+            thermoelastic_q_inv: v.thermoelastic_q_inv,
+        }
+    }
+}
+
 impl Default for StringContact {
     /// The lecture's K = 1e13, α = 1.5.
     fn default() -> Self {
