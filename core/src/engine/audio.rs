@@ -5,7 +5,7 @@ use super::events::{Event, EventKind, GuiCommand};
 use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus};
 use super::kinds::ModelKind;
 use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
-use super::telemetry::{Telemetry, VoiceTelemetry, MAX_VOICES};
+use super::telemetry::{Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
 use super::voice::Physics;
 use crate::error::{check_closed, ParamError};
 use crate::models::source::EnergyTerms;
@@ -243,6 +243,18 @@ impl Engine {
     pub fn voice_energy(&self, slot: usize) -> Option<EnergyTerms> {
         let v = self.bank.as_ref()?.voices.get(slot)?;
         v.active.then(|| v.energy_terms())
+    }
+
+    /// What voice `slot` simulates for its note, if it is sounding. O(N_Φ).
+    pub fn voice_model(&self, slot: usize) -> Option<VoiceModelInfo> {
+        let v = self.bank.as_ref()?.voices.get(slot)?;
+        v.active.then(|| v.model_info())
+    }
+
+    /// Key of voice `slot` if it is sounding.
+    pub fn voice_key(&self, slot: usize) -> Option<u8> {
+        let v = self.bank.as_ref()?.voices.get(slot)?;
+        v.active.then_some(v.key)
     }
 
     /// Contact Newton solves that hit the cap since creation.
@@ -600,6 +612,7 @@ impl Engine {
                     held: v.held || v.sustained,
                     energy: e,
                     age: ((self.frame - v.started) as f64 / self.host_rate) as f32,
+                    model: v.model_info(),
                 };
                 t.active_voices += 1;
                 if loudest.is_none_or(|(_, x)| e.total() > x) {

@@ -100,5 +100,7 @@ pub use params::{
     PARAM_COUNT, SCHEME_NAMES,
 };
 pub use preset::{Preset, PresetValue};
-pub use telemetry::{Telemetry, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES};
+pub use telemetry::{
+    Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
+};
 pub use voice::VOICE_CEILING;

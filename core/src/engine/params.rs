@@ -185,7 +185,7 @@ params! {
     PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false,
         "Triangular pluck apex displacement at velocity 1 (strings).";
     Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 50.0, INT, true,
-        "Quality: transverse modes N_Phi (plates) or string modes N - 1 (strings).";
+        "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1.";
     InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true,
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
     SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 32000.0, LOG, true,
@@ -206,6 +206,10 @@ params! {
         "Mod wheel scales the strike force (plates) or pluck amplitude (strings) by 1 + depth * (2 wheel - 1).";
     ReleaseT60, "release_t60", "Release T60", "s", 0.02, 60.0, 2.0, LOG, false,
         "After note-off (and sustain release) every mode decays at least this fast (60 dB in this time).";
+    BandLimit, "band_limit", "Band limit", "Hz", r::PLATE_BAND_LIMIT.play_min as f32, r::PLATE_BAND_LIMIT.play_max as f32, 6000.0, LOG, true,
+        "Quality (plates): each note keeps the transverse modes up to this frequency after its pitch scaling (at most 'modes', the CPU budget); the simulation rate follows from it.";
+    Threads, "threads", "Threads", "", 0.0, 16.0, 0.0, INT, false,
+        "Threads sharing the voices' work (0: every core of the machine; 1: the audio thread alone).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

@@ -30,6 +30,22 @@ pub struct VoiceTelemetry {
     pub energy: EnergyTerms,
     /// Seconds since the note started.
     pub age: f32,
+    /// What the voice simulates for its note.
+    pub model: VoiceModelInfo,
+}
+
+/// The model a sounding voice actually simulates for its note (after the note's pitch scaling
+/// and band limit). Plain `Copy` data, written on the audio thread.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct VoiceModelInfo {
+    /// Transverse plate modes `N_Φ` stepped (string: modes `N - 1`).
+    pub n_phi: u32,
+    /// In-plane plate modes `N_Ψ` stepped (0: linear plate or a string).
+    pub n_psi: u32,
+    /// Frequency (Hz) of the highest mode that is driven and heard, after the note's scaling.
+    pub top_mode_hz: f32,
+    /// Simulation rate of the voice (Hz).
+    pub sim_rate: f32,
 }
 
 /// One telemetry frame.

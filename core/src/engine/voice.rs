@@ -24,7 +24,7 @@
 
 use super::kinds::Material;
 use super::params::{ParamId, ParamValues};
-use super::telemetry::{SNAPSHOT_POINTS, SPECTRUM_MODES};
+use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::modal::CouplingTensor;
 use crate::models::plate::{PlateModel, RaisedCosine};
 use crate::models::source::EnergyTerms;
@@ -408,6 +408,42 @@ impl Voice {
             }
         }
         true
+    }
+
+    /// What the voice simulates for its current note (see [`VoiceModelInfo`]). Audio thread,
+    /// O(N_Φ), no allocation.
+    pub fn model_info(&self) -> VoiceModelInfo {
+        match &self.model {
+            VoiceModel::Plate(pv) => {
+                let wmax = 0.45 * std::f64::consts::TAU * pv.fs;
+                let top = pv
+                    .omega
+                    .iter()
+                    .copied()
+                    .filter(|&w| w < wmax)
+                    .fold(0.0, f64::max);
+                VoiceModelInfo {
+                    n_phi: pv.model.q().len() as u32,
+                    n_psi: if pv.data.linear {
+                        0
+                    } else {
+                        pv.data.zeta4.len() as u32
+                    },
+                    top_mode_hz: (top / std::f64::consts::TAU) as f32,
+                    sim_rate: pv.fs as f32,
+                }
+            }
+            VoiceModel::String(sv) => {
+                let params = sv.model.params();
+                let n = sv.model.modal_displacement().len();
+                VoiceModelInfo {
+                    n_phi: n as u32,
+                    n_psi: 0,
+                    top_mode_hz: (params.omega(n) / std::f64::consts::TAU) as f32,
+                    sim_rate: params.sample_rate as f32,
+                }
+            }
+        }
     }
 
     /// Whether an excitation force is still being applied.

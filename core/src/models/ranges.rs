@@ -82,9 +82,11 @@ pub const STRIKE_DURATION: Range = Range::new(1e-5, 0.1, "s").playable(1e-4, 0.0
 /// Peak force of a plate strike (at velocity 1 on the instrument).
 pub const STRIKE_FORCE: Range = Range::new(0.0, 1e6, "N").playable(0.01, 1000.0);
 /// Transverse modes `N_Φ`.
-pub const PLATE_MODES: Range = Range::new(1.0, 4000.0, "").playable(4.0, 400.0);
+pub const PLATE_MODES: Range = Range::new(1.0, 4000.0, "").playable(4.0, 2000.0);
 /// In-plane modes `N_Ψ` (0: linear plate).
 pub const PLATE_IN_PLANE_MODES: Range = Range::new(0.0, 4000.0, "").playable(0.0, 200.0);
+/// The instrument's plate band limit: the highest transverse mode frequency a note keeps.
+pub const PLATE_BAND_LIMIT: Range = Range::new(500.0, 20_000.0, "Hz").playable(500.0, 20_000.0);
 /// A plate's simulation rate.
 pub const PLATE_SIM_RATE: Range = Range::new(1e3, 4e6, "Hz").playable(8000.0, 400_000.0);
 
@@ -128,6 +130,7 @@ mod tests {
         ("PLATE_MODES", PLATE_MODES),
         ("PLATE_IN_PLANE_MODES", PLATE_IN_PLANE_MODES),
         ("PLATE_SIM_RATE", PLATE_SIM_RATE),
+        ("PLATE_BAND_LIMIT", PLATE_BAND_LIMIT),
         ("STRING_LENGTH", STRING_LENGTH),
         ("STRING_TENSION", STRING_TENSION),
         ("STRING_LINEAR_DENSITY", STRING_LINEAR_DENSITY),
