@@ -8,3 +8,4 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod engine;
 mod engine_alloc;
+mod tiers;

@@ -669,7 +669,7 @@ fn run_bank(b: &mut Bank, left: &mut [f32], right: &mut [f32], hits: &mut u64, d
             sr[i] += vr[i];
         }
         *hits += v.take_cap_hits();
-        let e = v.energy_terms().total();
+        let e = v.level_energy();
         v.energy = e;
         v.peak_energy = v.peak_energy.max(e);
         if !v.exciting() && (!e.is_finite() || e <= SILENCE_RATIO * v.peak_energy) {

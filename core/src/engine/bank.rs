@@ -6,22 +6,18 @@
 //! moved to the audio thread through the bank queue; the replaced bank goes back to the worker
 //! to be dropped.
 
-use super::kinds::{Material, ModelKind};
+use super::kinds::ModelKind;
 use super::params::{ParamId, ParamValues};
+use super::plate_bank::{plate_sim_rate, plate_voices};
 use super::resample::Resampler;
-use super::telemetry::SNAPSHOT_POINTS;
-use super::voice::{PlateData, PlateVoice, StringVoice, Voice, VoiceModel};
+use super::voice::{StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
 pub use crate::models::plate::basis::ModalCache;
-use crate::models::plate::basis::{BasisKey, PlateBasis};
-use crate::models::plate::spec::{PlateShape, Position, Symmetry};
-use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
 use crate::models::string::spec::{
     StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
     StringSpec,
 };
 use crate::models::string::{StiffString, ValetteLosses};
-use std::sync::Arc;
 
 /// Host-rate samples per internal chunk: events, parameter reads and bank swaps happen on
 /// chunk boundaries at the latest, and the simulation scratch is sized for one chunk.
@@ -62,26 +58,6 @@ pub(crate) struct Bank {
     pub norm: f64,
 }
 
-/// `Φ_s` of every mode of `basis` at the polar parameter pair `(r, angle)`: circular plates
-/// read it as it is; rectangles as `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the
-/// sides).
-fn phi_values(kind: ModelKind, basis: &PlateBasis, r: f64, angle: f64) -> Vec<f64> {
-    let at = if kind == ModelKind::RectPlate {
-        Position {
-            x: Some(0.5 + 0.5 * r * angle.cos()),
-            y: Some(0.5 + 0.5 * r * angle.sin()),
-            ..Position::default()
-        }
-    } else {
-        Position {
-            r: Some(r),
-            angle: Some(angle),
-            ..Position::default()
-        }
-    };
-    basis.phi_all(&at)
-}
-
 impl Bank {
     /// Builds the bank for `v` at `host_rate` (worker thread; allocates, may take seconds).
     pub fn build(
@@ -92,92 +68,17 @@ impl Bank {
     ) -> Result<Bank, ParamError> {
         crate::error::check_closed("host_rate", host_rate, 8000.0, 768_000.0)?;
         let kind = ModelKind::from_params(v);
-        let sim_rate = v.get(ParamId::SimRate) as f64;
         let voices_n = v.index_of(ParamId::Polyphony).max(1);
         let modes = v.index_of(ParamId::Modes).max(1);
         let mut voices = Vec::with_capacity(voices_n);
-        let norm;
+        let (norm, sim_rate);
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
-            let n_psi = v.index_of(ParamId::InPlaneModes);
-            let m = Material::from_params(v);
-            let shape = match kind {
-                ModelKind::RectPlate => PlateShape::RectSs,
-                ModelKind::Cymbal => PlateShape::CircularClamped,
-                _ => PlateShape::CircularFree,
-            };
-            let aspect = v.get(ParamId::Aspect) as f64;
-            let key = BasisKey::new(shape, m.poisson, aspect, modes, n_psi, Symmetry::Full)?;
-            let basis = cache.basis(&key)?;
-            let nf = basis.n_phi();
-            let pv =
-                |r: ParamId, a: ParamId| phi_values(kind, &basis, v.get(r) as f64, v.get(a) as f64);
-            let mut snapshot = Vec::with_capacity(SNAPSHOT_POINTS * nf);
-            for p in 0..SNAPSHOT_POINTS {
-                // Along a diameter (circular) or the diagonal (rectangle), ends excluded.
-                let x = -0.95 + 1.9 * p as f64 / (SNAPSHOT_POINTS - 1) as f64;
-                let (r, ang) = if kind == ModelKind::RectPlate {
-                    (
-                        x.abs() * std::f64::consts::SQRT_2,
-                        if x < 0.0 { 1.25 } else { 0.25 },
-                    )
-                } else {
-                    (x.abs(), if x < 0.0 { 1.0 } else { 0.0 })
-                };
-                // Rectangle: ξ = η = ½ + ½ x (the diagonal), since r √2 · cos(π/4) = |x|.
-                let ang = ang * std::f64::consts::PI;
-                snapshot.extend(phi_values(kind, &basis, r, ang));
-            }
-            let data = Arc::new(PlateData {
-                strike: pv(ParamId::StrikeRadius, ParamId::StrikeAngle),
-                pickups: [
-                    pv(ParamId::PickupLeftPos, ParamId::PickupLeftAngle),
-                    pv(ParamId::PickupRightPos, ParamId::PickupRightAngle),
-                ],
-                snapshot,
-                linear: n_psi == 0,
-                lambda2: basis.lambda2().to_vec(),
-                zeta4: basis.zeta4().to_vec(),
-                poisson: m.poisson,
-            });
-            let scheme = match v.index_of(ParamId::Scheme) {
-                0 => PlateScheme::ConservativeTheta1,
-                1 => PlateScheme::ConservativeExact,
-                2 => PlateScheme::StormerVerletExact,
-                _ => PlateScheme::SavExact,
-            };
-            // Built with neutral coefficients (the exact scheme accepts any ω); every note
-            // retunes them in place before it sounds.
-            let params = PlateParams {
-                omega: data.lambda2.iter().map(|_| 1.0).collect(),
-                zeta4: vec![1.0; data.zeta4.len()],
-                rho_h: 1.0,
-                e_h: 1.0,
-                coupling_scale: 0.0,
-                fs: sim_rate,
-                damping: vec![0.0; nf],
-                scheme,
-                solve: LinearSolve::Auto,
-            };
-            for _ in 0..voices_n {
-                let pickups = vec![
-                    Pickup::new(data.pickups[0].clone(), PickupKind::VelocityBackward)?,
-                    Pickup::new(data.pickups[1].clone(), PickupKind::VelocityBackward)?,
-                ];
-                let model = PlateModel::new(
-                    &params,
-                    basis.coupling.clone(),
-                    data.strike.clone(),
-                    pickups,
-                )?;
-                voices.push(Voice::new(VoiceModel::Plate(Box::new(PlateVoice::new(
-                    model,
-                    data.clone(),
-                    sim_rate,
-                )))));
-            }
+            sim_rate = plate_sim_rate(v.get(ParamId::BandLimit) as f64);
+            voices = plate_voices(kind, v, sim_rate, voices_n, cache)?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
+            sim_rate = v.get(ParamId::SimRate) as f64;
             let length = v.get(ParamId::Size) as f64;
             let mu = v.get(ParamId::LinearDensity) as f64;
             // The instrument's string as a specification, validated and built as a scene's

@@ -74,7 +74,7 @@
 //!
 //! Polyphony is fixed per bank (parameter, 1..16). A note takes the voice already playing its
 //! key, else a free voice, else steals the quietest released voice, else the oldest. A voice
-//! ends (and costs nothing more) when its discrete energy falls below [`SILENCE_RATIO`] of its
+//! ends (and costs nothing more) when its level energy (`Voice::level_energy`) falls below [`SILENCE_RATIO`] of its
 //! peak after the excitation, and is silenced (its chunk dropped, counted as diverged) if its
 //! output passes [`VOICE_CEILING`]; when no voice sounds and the resampler history is zero, the
 //! bank costs only a buffer fill. Note to pitch, release and the physical mapping: [`voice`].
@@ -85,6 +85,7 @@ mod events;
 mod handle;
 mod kinds;
 pub mod params;
+mod plate_bank;
 pub mod preset;
 pub mod resample;
 mod telemetry;

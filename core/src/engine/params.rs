@@ -150,8 +150,8 @@ params! {
         "Plate damping law constant c0.";
     StrikeRadius, "strike_radius", "Strike position", "", 0.0, 0.99, 0.92, F, true,
         "Plate strike point: fraction of the radius (circular) or of the half-diagonal from the centre (rectangle).";
-    StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, true,
-        "Plate strike point: polar angle.";
+    StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, false,
+        "Plate strike point: polar angle, taken by each new note (a circular plate rotates its pickups instead: no rebuild).";
     StrikeDuration, "strike_duration", "Strike duration", "s", r::STRIKE_DURATION.play_min as f32, r::STRIKE_DURATION.play_max as f32, 0.01, LOG, false,
         "Raised-cosine strike length (mallet hardness: shorter is harder); plates.";
     StrikeForce, "strike_force", "Strike force", "N", r::STRIKE_FORCE.play_min as f32, r::STRIKE_FORCE.play_max as f32, 40.0, LOG, false,
@@ -184,13 +184,13 @@ params! {
         "Triangular pluck apex as a fraction of the length (strings).";
     PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false,
         "Triangular pluck apex displacement at velocity 1 (strings).";
-    Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 50.0, INT, true,
+    Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 510.0, INT, true,
         "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1.";
     InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true,
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
     SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 32000.0, LOG, true,
-        "Quality: the models' own time-step rate; resampled to the host rate.";
-    Scheme, "scheme", "Scheme", "", 0.0, 3.0, 1.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
+        "Quality (strings): the string's own time-step rate, resampled to the host rate (plates derive theirs from the band limit).";
+    Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
         "Quality: plate time scheme.";
     Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true,
         "Voices in the pool (a rebuild allocates them); the quietest or oldest is stolen.";

@@ -59,6 +59,14 @@ pub trait ModalBasis: std::fmt::Debug + Send + Sync {
     /// The coupling tensor `H^l_{ij}`.
     fn coupling(&self) -> &CouplingTensor;
 
+    /// For a basis whose every mode is `R_s(r) cos(n_s θ)` (a circular basis of cosine modes,
+    /// such as the strike-mirror subspace): the angular order `n_s` of `mode`, so that
+    /// `Φ_s(r, θ) = Φ_s(r, 0) cos(n_s θ)` rotates a point without evaluating the radial factor
+    /// again. `None` for any other basis. Allocation-free.
+    fn cosine_order(&self, _mode: usize) -> Option<u32> {
+        None
+    }
+
     /// Number of transverse modes `N_Φ`.
     fn n_phi(&self) -> usize {
         self.lambda2().len()

@@ -15,6 +15,7 @@
 //! Threads: [`PlateModes::build`] runs on a worker thread (allocates, spawns scoped helpers);
 //! [`PlateModes::phi_at`] and the tensor kernels are allocation-free (audio thread).
 
+use super::angular::Parity;
 use super::assemble::assemble;
 use super::radial::CircularEdge;
 use crate::error::{check_closed, check_positive, ParamError};
@@ -242,5 +243,10 @@ impl ModalBasis for PlateModes {
 
     fn coupling(&self) -> &CouplingTensor {
         &self.coupling
+    }
+
+    fn cosine_order(&self, mode: usize) -> Option<u32> {
+        let m = &self.phi[mode];
+        (m.parity == Parity::Cos).then_some(m.n)
     }
 }

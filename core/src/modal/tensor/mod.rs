@@ -23,6 +23,7 @@
 
 mod blocks;
 mod runs;
+mod truncate;
 
 use crate::error::ParamError;
 use blocks::{BlockLayout, PAD};

@@ -115,6 +115,12 @@ impl PlateBasis {
         (0..self.n_phi()).map(|s| self.phi_at(s, p)).collect()
     }
 
+    /// The angular order `n_s` of a cosine mode `R_s(r) cos(n_s θ)` of a circular basis
+    /// (`None` otherwise): see [`ModalBasis::cosine_order`].
+    pub fn cosine_order(&self, mode: usize) -> Option<u32> {
+        self.shapes.cosine_order(mode)
+    }
+
     /// Number of transverse modes.
     pub fn n_phi(&self) -> usize {
         self.shapes.n_phi()

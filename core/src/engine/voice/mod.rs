@@ -17,20 +17,24 @@
 //! fastest decay).
 //!
 //! Transverse plate modes above `0.45 fs_sim` are neither driven nor heard (their strike and
-//! pickup weights are zeroed): the exact scheme keeps them stable but their samples alias.
+//! pickup weights are zeroed): the exact scheme keeps them stable but their samples alias. A
+//! plate note simulates only the modes under the band limit (`plate.rs`: tiers and the strike
+//! frame); strings are in `string.rs`.
 //!
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
-use super::kinds::Material;
+mod plate;
+mod string;
+
+pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
+pub(crate) use string::StringVoice;
+
 use super::params::{ParamId, ParamValues};
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
-use crate::modal::CouplingTensor;
-use crate::models::plate::{PlateModel, RaisedCosine};
+use crate::models::plate::RaisedCosine;
 use crate::models::source::EnergyTerms;
-use crate::models::string::params::Stiffness;
-use crate::models::string::{StiffString, TrianglePluck, ValetteLosses};
-use std::sync::Arc;
+use crate::models::string::TrianglePluck;
 
 /// Largest normalised output of one voice (pickup velocity over the model's velocity
 /// reference, see [`super::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
@@ -42,50 +46,6 @@ use std::sync::Arc;
 /// rings); without the ceiling their output reached inf in f32 before their f64 state
 /// overflowed (found by `tests/robustness/soak.rs`).
 pub const VOICE_CEILING: f64 = 1e5;
-
-/// Per-bank data of a plate model: the dimensionless modal data and the mode values at the
-/// strike point, the pickups and the snapshot points (unit-size plate). Shared read-only by
-/// the voices of a bank.
-#[derive(Debug)]
-pub(crate) struct PlateData {
-    /// `λ_s²`: `ω_s = λ_s² √(D/ρh) / a²`.
-    pub lambda2: Vec<f64>,
-    /// `ζ̂_l⁴` of the unit plate (`ζ_l⁴ = ζ̂_l⁴ / a⁴`).
-    pub zeta4: Vec<f64>,
-    /// Whether the plate is linear (no in-plane modes: `κ = 0`).
-    pub linear: bool,
-    /// `Φ̂_s` at the strike point.
-    pub strike: Vec<f64>,
-    /// `Φ̂_s` at the left and right pickups.
-    pub pickups: [Vec<f64>; 2],
-    /// `Φ̂_s` at the snapshot points, row-major `[point][mode]`.
-    pub snapshot: Vec<f64>,
-    /// Poisson ratio `ν` the basis was built with.
-    pub poisson: f64,
-}
-
-/// A plate voice's model and scratch.
-pub(crate) struct PlateVoice {
-    pub model: PlateModel<CouplingTensor>,
-    pub data: Arc<PlateData>,
-    omega: Vec<f64>,
-    damping: Vec<f64>,
-    zeta4: Vec<f64>,
-    /// Length scale `a` (m) of the last retune (weights scale as `1/a`).
-    size: f64,
-    strike: Option<RaisedCosine>,
-    /// Steps since the strike started.
-    strike_step: u64,
-    fs: f64,
-}
-
-/// A string voice's model and the root-key constants.
-pub(crate) struct StringVoice {
-    pub model: StiffString,
-    losses: ValetteLosses,
-    /// Newton cap hits already counted into the engine's total.
-    pub cap_hits_seen: u64,
-}
 
 /// The model of a voice.
 pub(crate) enum VoiceModel {
@@ -106,9 +66,9 @@ pub(crate) struct Voice {
     pub sustained: bool,
     /// Host sample at which the note started (for oldest-voice stealing and telemetry).
     pub started: u64,
-    /// Largest total energy seen since the note started (J).
+    /// Largest level energy ([`Self::level_energy`]) since the note started (J).
     pub peak_energy: f64,
-    /// Last measured total energy (J).
+    /// Last measured level energy (J).
     pub energy: f64,
     /// Whether the coefficients need a retune before the next step.
     pub dirty: bool,
@@ -129,132 +89,8 @@ pub(crate) fn pitch_ratio(v: &ParamValues, key: u8, bend: f32) -> f64 {
 }
 
 /// Release decay rate `σ = ln(1000) / T60` (1/s): amplitude down 60 dB in `T60`.
-fn release_sigma(v: &ParamValues) -> f64 {
+pub(crate) fn release_sigma(v: &ParamValues) -> f64 {
     1000f64.ln() / v.get(ParamId::ReleaseT60) as f64
-}
-
-impl PlateVoice {
-    /// Wraps a built model (worker thread; allocates the scratch).
-    pub fn new(model: PlateModel<CouplingTensor>, data: Arc<PlateData>, fs: f64) -> Self {
-        let (nf, np) = (data.lambda2.len(), data.zeta4.len());
-        Self {
-            model,
-            data,
-            omega: vec![0.0; nf],
-            damping: vec![0.0; nf],
-            zeta4: vec![0.0; np],
-            size: 1.0,
-            strike: None,
-            strike_step: 0,
-            fs,
-        }
-    }
-
-    /// Computes and applies the coefficients for `key` (module doc). `released`: apply the
-    /// release floor. Returns `false` if the model refused them (then unchanged).
-    fn retune(&mut self, p: &Physics, key: u8, released: bool) -> bool {
-        let v = &p.values;
-        let m = Material::from_params(v);
-        let a = v.get(ParamId::Size) as f64;
-        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(v, key, p.bend);
-        let nu = self.data.poisson;
-        let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - nu * nu));
-        let rho_h = m.density * h;
-        let scale = (d / rho_h).sqrt() / (a * a);
-        let (ds, da, db, dc) = (
-            v.get(ParamId::DampingScale) as f64,
-            v.get(ParamId::DampingA) as f64,
-            v.get(ParamId::DampingB) as f64,
-            v.get(ParamId::DampingC0) as f64,
-        );
-        let floor = if released {
-            2.0 * release_sigma(v)
-        } else {
-            0.0
-        };
-        for (s, &l2) in self.data.lambda2.iter().enumerate() {
-            let w = l2 * scale;
-            self.omega[s] = w;
-            // The release floor is capped at critical damping (c = 2ω): a heavier damping
-            // would make a low mode creep back slower (rate ω²/c).
-            self.damping[s] = (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
-        }
-        let a4 = a.powi(4);
-        for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4) {
-            *z = zh / a4;
-        }
-        let kappa = if self.data.linear { 0.0 } else { a.powi(-5) };
-        let ok = self
-            .model
-            .retune(
-                &self.omega,
-                &self.damping,
-                &self.zeta4,
-                rho_h,
-                m.youngs_modulus * h,
-                kappa,
-            )
-            .is_ok();
-        if ok {
-            self.size = a;
-            self.write_weights(a);
-        }
-        ok
-    }
-
-    /// Strike and pickup weights `Φ̂_s / a`, zero above `0.45 fs`.
-    fn write_weights(&mut self, a: f64) {
-        let wmax = 0.45 * std::f64::consts::TAU * self.fs;
-        let inv_a = 1.0 / a;
-        let fw = self.model.force_weights_mut();
-        for (s, w) in fw.iter_mut().enumerate() {
-            *w = if self.omega[s] < wmax {
-                self.data.strike[s] * inv_a
-            } else {
-                0.0
-            };
-        }
-        for c in 0..2 {
-            let pw = self.model.pickup_weights_mut(c);
-            for (s, w) in pw.iter_mut().enumerate() {
-                *w = if self.omega[s] < wmax {
-                    self.data.pickups[c][s] * inv_a
-                } else {
-                    0.0
-                };
-            }
-        }
-    }
-}
-
-impl StringVoice {
-    /// Wraps a built model (worker thread).
-    pub fn new(model: StiffString, losses: ValetteLosses) -> Self {
-        Self {
-            model,
-            losses,
-            cap_hits_seen: 0,
-        }
-    }
-
-    fn retune(&mut self, p: &Physics, key: u8, released: bool) -> bool {
-        let v = &p.values;
-        let r = pitch_ratio(v, key, p.bend);
-        let t_root = v.get(ParamId::Tension) as f64;
-        let l = self.model.params().length;
-        let ei = v.get(ParamId::Inharmonicity) as f64 * t_root * l * l
-            / (std::f64::consts::PI * std::f64::consts::PI);
-        let floor = if released { release_sigma(v) } else { 0.0 };
-        self.model
-            .retune(
-                t_root * r * r,
-                Stiffness::BendingStiffness(ei),
-                Some(&self.losses),
-                v.get(ParamId::DampingScale) as f64,
-                floor,
-            )
-            .is_ok()
-    }
 }
 
 impl Voice {
@@ -296,6 +132,9 @@ impl Voice {
         let same = self.active && self.key == key;
         if !same {
             self.reset();
+            if let VoiceModel::Plate(pv) = &mut self.model {
+                pv.begin(p, key);
+            }
         }
         self.key = key;
         self.held = true;
@@ -345,11 +184,7 @@ impl Voice {
     /// Silences the voice (state at rest) and frees it. No allocation.
     pub fn reset(&mut self) {
         match &mut self.model {
-            VoiceModel::Plate(pv) => {
-                pv.model.reset();
-                pv.strike = None;
-                pv.strike_step = 0;
-            }
+            VoiceModel::Plate(pv) => pv.reset(),
             VoiceModel::String(sv) => {
                 sv.model.reset();
                 sv.cap_hits_seen = 0;
@@ -368,28 +203,8 @@ impl Voice {
     pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
         match &mut self.model {
             VoiceModel::Plate(pv) => {
-                for (l, r) in left.iter_mut().zip(right.iter_mut()) {
-                    let f = match pv.strike {
-                        Some(s) => {
-                            let t = pv.strike_step as f64 / pv.fs;
-                            pv.strike_step += 1;
-                            if t > s.duration {
-                                pv.strike = None;
-                            }
-                            s.force(t)
-                        }
-                        None => 0.0,
-                    };
-                    if pv.model.step(f).is_err() {
-                        return false;
-                    }
-                    let o = pv.model.outputs();
-                    let (a, b) = (gain * o[0], gain * o[1]);
-                    if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
-                        return false;
-                    }
-                    *l += a as f32;
-                    *r += b as f32;
+                if !pv.run(left, right, gain) {
+                    return false;
                 }
             }
             VoiceModel::String(sv) => {
@@ -414,25 +229,7 @@ impl Voice {
     /// O(N_Φ), no allocation.
     pub fn model_info(&self) -> VoiceModelInfo {
         match &self.model {
-            VoiceModel::Plate(pv) => {
-                let wmax = 0.45 * std::f64::consts::TAU * pv.fs;
-                let top = pv
-                    .omega
-                    .iter()
-                    .copied()
-                    .filter(|&w| w < wmax)
-                    .fold(0.0, f64::max);
-                VoiceModelInfo {
-                    n_phi: pv.model.q().len() as u32,
-                    n_psi: if pv.data.linear {
-                        0
-                    } else {
-                        pv.data.zeta4.len() as u32
-                    },
-                    top_mode_hz: (top / std::f64::consts::TAU) as f32,
-                    sim_rate: pv.fs as f32,
-                }
-            }
+            VoiceModel::Plate(pv) => pv.model_info(),
             VoiceModel::String(sv) => {
                 let params = sv.model.params();
                 let n = sv.model.modal_displacement().len();
@@ -457,8 +254,21 @@ impl Voice {
     /// Energy terms of the voice (J).
     pub fn energy_terms(&self) -> EnergyTerms {
         match &self.model {
-            VoiceModel::Plate(pv) => pv.model.energy().into(),
+            VoiceModel::Plate(pv) => pv.model().energy().into(),
             VoiceModel::String(sv) => sv.model.energy_terms(),
+        }
+    }
+
+    /// The energy (J) that measures how loud the voice still is, for its end and for voice
+    /// stealing: kinetic plus linear potential plus, for strings, the contact energy. A plate's
+    /// nonlinear term is left out: under the SAV scheme it is the auxiliary `ψ²/2`, which
+    /// keeps an `O(h²)` residue after the motion has died away, while the physical quartic
+    /// energy vanishes faster than the linear one as `q → 0`.
+    pub fn level_energy(&self) -> f64 {
+        let e = self.energy_terms();
+        match &self.model {
+            VoiceModel::Plate(_) => e.kinetic + e.linear,
+            VoiceModel::String(_) => e.total(),
         }
     }
 
@@ -485,19 +295,7 @@ impl Voice {
         freq.fill(0.0);
         amp.fill(0.0);
         match &mut self.model {
-            VoiceModel::Plate(pv) => {
-                let q = pv.model.q();
-                let n = q.len();
-                for (p, d) in disp.iter_mut().enumerate() {
-                    let row = &pv.data.snapshot[p * n..(p + 1) * n];
-                    let w: f64 = row.iter().zip(q).map(|(a, b)| a * b).sum();
-                    *d = (w / pv.size) as f32;
-                }
-                for s in 0..n.min(SPECTRUM_MODES) {
-                    freq[s] = (pv.omega[s] / std::f64::consts::TAU) as f32;
-                    amp[s] = q[s].abs() as f32;
-                }
-            }
+            VoiceModel::Plate(pv) => pv.snapshot(disp, freq, amp),
             VoiceModel::String(sv) => {
                 let u = sv.model.grid_displacement();
                 let n = u.len() + 1; // intervals

@@ -1,0 +1,171 @@
+//! The plate voices of a bank: the basis (strike-mirror for circular plates), its tier
+//! truncations, the strike and pickup frame, and one model per tier per voice.
+//!
+//! The simulation rate of a plate bank follows from the band limit `B`: the modes a note keeps
+//! lie under `B`, and a mode is heard below [`HEARD_FRACTION`]` fs`, so `fs = B / 0.45` rounded
+//! up to 100 Hz (13.4 kHz for the default 6 kHz band).
+//!
+//! Worker thread (allocates; seconds for large bases on a cold modal cache).
+
+use super::kinds::{Material, ModelKind};
+use super::params::{ParamId, ParamValues};
+use super::telemetry::SNAPSHOT_POINTS;
+use super::voice::{tier_ladder, Frame, PlateData, PlateVoice, Voice, VoiceModel, HEARD_FRACTION};
+use crate::error::ParamError;
+use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
+use crate::models::plate::spec::{PlateShape, Position, Symmetry};
+use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+/// Simulation rate (Hz) of a plate bank with band limit `band_hz` (module doc).
+pub fn plate_sim_rate(band_hz: f64) -> f64 {
+    (band_hz / HEARD_FRACTION / 100.0).ceil() * 100.0
+}
+
+/// A polar parameter pair `(r, angle)` as a position: circular plates read it as it is;
+/// rectangles as `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the sides).
+fn position(kind: ModelKind, r: f64, angle: f64) -> Position {
+    if kind == ModelKind::RectPlate {
+        Position {
+            x: Some(0.5 + 0.5 * r * angle.cos()),
+            y: Some(0.5 + 0.5 * r * angle.sin()),
+            ..Position::default()
+        }
+    } else {
+        Position {
+            r: Some(r),
+            angle: Some(angle),
+            ..Position::default()
+        }
+    }
+}
+
+/// `Φ̂_s` of every mode at the snapshot points (row-major `[point][mode]`): along the diameter
+/// through angle 0 (circular; the strike's diameter in a mirror basis) or the diagonal
+/// (rectangle), ends excluded.
+fn snapshot_rows(kind: ModelKind, basis: &PlateBasis) -> Vec<f64> {
+    let mut snapshot = Vec::with_capacity(SNAPSHOT_POINTS * basis.n_phi());
+    for p in 0..SNAPSHOT_POINTS {
+        let x = -0.95 + 1.9 * p as f64 / (SNAPSHOT_POINTS - 1) as f64;
+        let (r, ang) = if kind == ModelKind::RectPlate {
+            // ξ = η = ½ + ½ x (the diagonal), since r √2 · cos(π/4) = |x|.
+            (
+                x.abs() * std::f64::consts::SQRT_2,
+                if x < 0.0 { 1.25 * PI } else { 0.25 * PI },
+            )
+        } else {
+            (x.abs(), if x < 0.0 { PI } else { 0.0 })
+        };
+        snapshot.extend(basis.phi_all(&position(kind, r, ang)));
+    }
+    snapshot
+}
+
+/// The strike and pickup frame of `basis` for the parameters `v` (module doc of the voice).
+fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
+    let pickup = |r: ParamId, a: ParamId| (v.get(r) as f64, v.get(a) as f64);
+    let pickups = [
+        pickup(ParamId::PickupLeftPos, ParamId::PickupLeftAngle),
+        pickup(ParamId::PickupRightPos, ParamId::PickupRightAngle),
+    ];
+    let strike_radius = v.get(ParamId::StrikeRadius) as f64;
+    let orders: Option<Vec<u32>> = (0..basis.n_phi()).map(|s| basis.cosine_order(s)).collect();
+    match orders {
+        Some(orders) if kind != ModelKind::RectPlate => Frame::Mirror {
+            orders,
+            strike: basis.phi_all(&position(kind, strike_radius, 0.0)),
+            pickups: pickups.map(|(r, _)| basis.phi_all(&position(kind, r, 0.0))),
+            pickup_angles: pickups.map(|(_, a)| a),
+        },
+        _ => Frame::Fixed {
+            basis: basis.clone(),
+            strike_radius,
+            pickups: pickups.map(|(r, a)| basis.phi_all(&position(kind, r, a))),
+        },
+    }
+}
+
+/// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate` (see the module doc).
+pub(crate) fn plate_voices(
+    kind: ModelKind,
+    v: &ParamValues,
+    sim_rate: f64,
+    voices_n: usize,
+    cache: &mut ModalCache,
+) -> Result<Vec<Voice>, ParamError> {
+    let modes = v.index_of(ParamId::Modes).max(1);
+    let n_psi = v.index_of(ParamId::InPlaneModes);
+    let m = Material::from_params(v);
+    let (shape, symmetry) = match kind {
+        ModelKind::RectPlate => (PlateShape::RectSs, Symmetry::Full),
+        ModelKind::Cymbal => (PlateShape::CircularClamped, Symmetry::StrikeMirror),
+        _ => (PlateShape::CircularFree, Symmetry::StrikeMirror),
+    };
+    let aspect = v.get(ParamId::Aspect) as f64;
+    let key = BasisKey::new(shape, m.poisson, aspect, modes, n_psi, symmetry)?;
+    let basis = cache.basis(&key)?;
+    let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
+    let data = Arc::new(PlateData {
+        lambda2: basis.lambda2().to_vec(),
+        zeta4: basis.zeta4().to_vec(),
+        linear: n_psi == 0,
+        frame: frame(kind, &basis, v),
+        snapshot: snapshot_rows(kind, &basis),
+        poisson: m.poisson,
+        tiers: tiers.clone(),
+        band_hz: v.get(ParamId::BandLimit) as f64,
+    });
+    let scheme = match v.index_of(ParamId::Scheme) {
+        0 => PlateScheme::ConservativeTheta1,
+        1 => PlateScheme::ConservativeExact,
+        2 => PlateScheme::StormerVerletExact,
+        _ => PlateScheme::SavExact,
+    };
+    // One sub-tensor per tier, shared by the voices.
+    let couplings = tiers
+        .iter()
+        .map(|&(n, m)| {
+            if (n, m) == (basis.coupling.n_phi(), basis.coupling.n_psi()) {
+                Ok(basis.coupling.clone())
+            } else {
+                basis.coupling.truncated(n, m).map(Arc::new)
+            }
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut voices = Vec::with_capacity(voices_n);
+    for _ in 0..voices_n {
+        let mut models = Vec::with_capacity(tiers.len());
+        for (&(n, m), coupling) in tiers.iter().zip(&couplings) {
+            // Built with neutral coefficients (the exact scheme accepts any ω); every note
+            // retunes them in place before it sounds.
+            let params = PlateParams {
+                omega: vec![1.0; n],
+                zeta4: vec![1.0; m],
+                rho_h: 1.0,
+                e_h: 1.0,
+                coupling_scale: 0.0,
+                fs: sim_rate,
+                damping: vec![0.0; n],
+                scheme,
+                solve: LinearSolve::Auto,
+            };
+            let pickups = vec![
+                Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
+                Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
+            ];
+            models.push(PlateModel::new(
+                &params,
+                coupling.clone(),
+                vec![0.0; n],
+                pickups,
+            )?);
+        }
+        voices.push(Voice::new(VoiceModel::Plate(Box::new(PlateVoice::new(
+            models,
+            data.clone(),
+            sim_rate,
+        )))));
+    }
+    Ok(voices)
+}

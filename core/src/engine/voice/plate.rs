@@ -1,0 +1,393 @@
+//! A plate voice: one model per mode tier, the note's tier chosen from its band, the strike
+//! frame of the note, and the note-to-coefficient mapping applied in place.
+//!
+//! **Model only what a note requires.** A note scales every partial by its pitch ratio `r`
+//! (see [`super`]), so the number of transverse modes under the band limit `B` falls as the note
+//! rises. The bank holds a ladder of truncations of its basis (tiers of `N_k ≈ N 2^{-k/2}`
+//! transverse modes, the first `N_k` by frequency, each with its own sub-tensor, see
+//! [`crate::modal::CouplingTensor::truncated`]); a voice owns one model per tier and a note uses
+//! the smallest tier that still holds every mode under `B` (the largest if the CPU budget `N`
+//! stops first). In-plane modes follow the transverse count in proportion (at least
+//! [`MIN_TIER_PSI`]): the in-plane modes represent the products of the transverse modes kept,
+//! whose content scales with the transverse band.
+//!
+//! **Strike frame.** A circular plate is simulated in the strike-mirror basis (the cosine modes
+//! `Φ_s = R_s(r) cos(n_s θ)`, symmetric about the strike's diameter: the strike excites no other
+//! mode, and the von Kármán coupling never leaves that subspace). A strike at angle `θ_0` is the
+//! strike at 0 with the pickups rotated by `-θ_0`: `Φ_s(r_p, θ_p - θ_0) = Φ_s(r_p, 0) cos(n_s
+//! (θ_p - θ_0))`, so the strike angle needs no rebuild. A voice keeps the frame of the strike
+//! that started it: struck again while it sounds (the same key), the new strike lands on the
+//! voice's own diameter whatever the strike-angle parameter says now, because a strike off that
+//! diameter would drive the antisymmetric modes the voice does not carry. Rectangles use the
+//! full basis and evaluate the strike point at each fresh note (allocation-free).
+//!
+//! Threads: built on the worker thread (inside a bank); everything else runs on the audio
+//! thread without allocating.
+
+use super::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
+use crate::engine::kinds::Material;
+use crate::engine::params::ParamId;
+use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
+use crate::modal::CouplingTensor;
+use crate::models::plate::basis::PlateBasis;
+use crate::models::plate::spec::Position;
+use crate::models::plate::{PlateModel, RaisedCosine};
+use std::f64::consts::TAU;
+use std::sync::Arc;
+
+/// Smallest in-plane count of a tier of a nonlinear plate.
+pub(crate) const MIN_TIER_PSI: usize = 4;
+
+/// Fraction of the simulation rate below which a mode is driven and heard: modes above it are
+/// kept stable by the exact scheme but their samples would alias (their weights are zeroed).
+pub(crate) const HEARD_FRACTION: f64 = 0.45;
+
+/// Where the strike and the pickups sit in the basis's frame.
+#[derive(Debug)]
+pub(crate) enum Frame {
+    /// Circular plate in the strike-mirror basis: every mode is `Φ_s(r, 0) cos(n_s θ)`.
+    Mirror {
+        /// Angular order `n_s` of each mode.
+        orders: Vec<u32>,
+        /// `Φ̂_s(r_strike, 0)` (unit plate).
+        strike: Vec<f64>,
+        /// `Φ̂_s(r_p, 0)` of the left and right pickups (unit plate).
+        pickups: [Vec<f64>; 2],
+        /// Polar angles `θ_p` of the pickups (rad, plate frame).
+        pickup_angles: [f64; 2],
+    },
+    /// Full basis (rectangles): the strike point is evaluated at each fresh note.
+    Fixed {
+        /// The basis, for `Φ̂_s` at the strike point.
+        basis: PlateBasis,
+        /// Strike position parameter (fraction of the half-diagonal from the centre).
+        strike_radius: f64,
+        /// `Φ̂_s` at the left and right pickups (unit plate).
+        pickups: [Vec<f64>; 2],
+    },
+}
+
+/// Per-bank data of a plate model, shared read-only by the voices of a bank.
+#[derive(Debug)]
+pub(crate) struct PlateData {
+    /// `λ_s²` of every mode of the bank's basis, increasing: `ω_s = λ_s² √(D/ρh) / a²`.
+    pub lambda2: Vec<f64>,
+    /// `ζ̂_l⁴` of the unit plate (`ζ_l⁴ = ζ̂_l⁴ / a⁴`).
+    pub zeta4: Vec<f64>,
+    /// Whether the plate is linear (no in-plane modes: `κ = 0`).
+    pub linear: bool,
+    /// Strike and pickup placement.
+    pub frame: Frame,
+    /// `Φ̂_s` at the snapshot points, row-major `[point][mode]` (every mode of the basis; the
+    /// strike's diameter for a circular plate, the diagonal for a rectangle).
+    pub snapshot: Vec<f64>,
+    /// Poisson ratio `ν` the basis was built with.
+    pub poisson: f64,
+    /// The tiers `(N_Φ, N_Ψ)`, largest first; voices hold one model per tier.
+    pub tiers: Vec<(usize, usize)>,
+    /// Band limit (Hz): a note keeps the modes up to it.
+    pub band_hz: f64,
+}
+
+/// The tier ladder for a budget of `n_phi` transverse and `n_psi` in-plane modes (`n_psi` 0:
+/// linear plate, built with one in-plane slot and `κ = 0`): `N_k = ⌈N 2^{-k/2}⌉` down to 8
+/// modes, in-plane counts in proportion. Worker thread.
+pub(crate) fn tier_ladder(n_phi: usize, n_psi: usize) -> Vec<(usize, usize)> {
+    let mut tiers: Vec<(usize, usize)> = Vec::new();
+    let mut k = 0;
+    loop {
+        let n = (n_phi as f64 * (-0.5 * k as f64).exp2()).ceil() as usize;
+        if k > 0 && (n < 8 || tiers.last().is_some_and(|t| t.0 == n)) {
+            break;
+        }
+        let m = if n_psi == 0 {
+            1
+        } else {
+            ((n_psi * n) as f64 / n_phi as f64)
+                .round()
+                .max(MIN_TIER_PSI.min(n_psi) as f64) as usize
+        };
+        tiers.push((n, m.min(n_psi.max(1))));
+        k += 1;
+    }
+    tiers
+}
+
+/// A plate voice: its tier models and per-note scratch.
+pub(crate) struct PlateVoice {
+    /// One model per tier of [`PlateData::tiers`], same order.
+    models: Vec<PlateModel<CouplingTensor>>,
+    /// The tier in use.
+    tier: usize,
+    pub data: Arc<PlateData>,
+    /// `ω_s` (rad/s) and `c_s` (1/s) of every mode of the basis for the current note.
+    omega: Vec<f64>,
+    damping: Vec<f64>,
+    zeta4: Vec<f64>,
+    /// `Φ̂_s` at the strike and the pickups in the voice's frame (unit plate, every mode).
+    strike_w: Vec<f64>,
+    pickup_w: [Vec<f64>; 2],
+    /// Length scale `a` (m) of the last retune (weights scale as `1/a`).
+    pub size: f64,
+    /// The strike being applied, if any.
+    pub strike: Option<RaisedCosine>,
+    /// Steps since the strike started.
+    pub strike_step: u64,
+    /// Simulation rate (Hz).
+    pub fs: f64,
+}
+
+impl PlateVoice {
+    /// Wraps the tier models (worker thread; allocates the scratch).
+    pub fn new(models: Vec<PlateModel<CouplingTensor>>, data: Arc<PlateData>, fs: f64) -> Self {
+        let (nf, np) = (data.lambda2.len(), data.zeta4.len());
+        Self {
+            models,
+            tier: 0,
+            data,
+            omega: vec![0.0; nf],
+            damping: vec![0.0; nf],
+            zeta4: vec![0.0; np],
+            strike_w: vec![0.0; nf],
+            pickup_w: [vec![0.0; nf], vec![0.0; nf]],
+            size: 1.0,
+            strike: None,
+            strike_step: 0,
+            fs,
+        }
+    }
+
+    /// The model of the tier in use.
+    pub fn model(&self) -> &PlateModel<CouplingTensor> {
+        &self.models[self.tier]
+    }
+
+    /// `(ω scale, a, h, ρh, E)` for `key`: `ω_s = λ_s² · scale`.
+    fn note_scalars(&self, p: &Physics, key: u8) -> (f64, f64, f64, f64, f64) {
+        let v = &p.values;
+        let m = Material::from_params(v);
+        let a = v.get(ParamId::Size) as f64;
+        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(v, key, p.bend);
+        let nu = self.data.poisson;
+        let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - nu * nu));
+        let rho_h = m.density * h;
+        ((d / rho_h).sqrt() / (a * a), a, h, rho_h, m.youngs_modulus)
+    }
+
+    /// Prepares a fresh note: the smallest tier holding every mode under the band limit (the
+    /// largest when the budget stops first), that model at rest, and the strike frame at the
+    /// current strike angle. Audio thread, O(N_Φ), no allocation.
+    pub fn begin(&mut self, p: &Physics, key: u8) {
+        let (scale, ..) = self.note_scalars(p, key);
+        let limit = TAU * self.data.band_hz / scale;
+        let n_band = self.data.lambda2.partition_point(|&l2| l2 <= limit);
+        let tiers = &self.data.tiers;
+        self.tier = (0..tiers.len())
+            .rev()
+            .find(|&k| tiers[k].0 >= n_band)
+            .unwrap_or(0);
+        let angle = p.values.get(ParamId::StrikeAngle) as f64;
+        self.set_frame(angle);
+        self.models[self.tier].reset();
+        self.strike = None;
+        self.strike_step = 0;
+    }
+
+    /// Unit-plate strike and pickup values in the frame of a strike at `angle` (rad).
+    fn set_frame(&mut self, angle: f64) {
+        match &self.data.frame {
+            Frame::Mirror {
+                orders,
+                strike,
+                pickups,
+                pickup_angles,
+            } => {
+                self.strike_w.copy_from_slice(strike);
+                for c in 0..2 {
+                    let d = pickup_angles[c] - angle;
+                    for (s, w) in self.pickup_w[c].iter_mut().enumerate() {
+                        *w = pickups[c][s] * (orders[s] as f64 * d).cos();
+                    }
+                }
+            }
+            Frame::Fixed {
+                basis,
+                strike_radius,
+                pickups,
+            } => {
+                let at = Position {
+                    x: Some(0.5 + 0.5 * strike_radius * angle.cos()),
+                    y: Some(0.5 + 0.5 * strike_radius * angle.sin()),
+                    ..Position::default()
+                };
+                for (s, w) in self.strike_w.iter_mut().enumerate() {
+                    *w = basis.phi_at(s, &at);
+                }
+                for (w, p) in self.pickup_w.iter_mut().zip(pickups) {
+                    w.copy_from_slice(p);
+                }
+            }
+        }
+    }
+
+    /// Computes and applies the coefficients for `key` to the tier in use (module doc of
+    /// [`super`]). `released`: apply the release floor. Returns `false` if the model refused
+    /// them (then unchanged).
+    pub fn retune(&mut self, p: &Physics, key: u8, released: bool) -> bool {
+        let v = &p.values;
+        let (scale, a, h, rho_h, e) = self.note_scalars(p, key);
+        let (ds, da, db, dc) = (
+            v.get(ParamId::DampingScale) as f64,
+            v.get(ParamId::DampingA) as f64,
+            v.get(ParamId::DampingB) as f64,
+            v.get(ParamId::DampingC0) as f64,
+        );
+        let floor = if released {
+            2.0 * release_sigma(v)
+        } else {
+            0.0
+        };
+        let (n, m) = self.data.tiers[self.tier];
+        for (s, &l2) in self.data.lambda2.iter().enumerate().take(n) {
+            let w = l2 * scale;
+            self.omega[s] = w;
+            // The release floor is capped at critical damping (c = 2ω): a heavier damping
+            // would make a low mode creep back slower (rate ω²/c).
+            self.damping[s] = (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
+        }
+        let a4 = a.powi(4);
+        for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4).take(m) {
+            *z = zh / a4;
+        }
+        let kappa = if self.data.linear { 0.0 } else { a.powi(-5) };
+        let ok = self.models[self.tier]
+            .retune(
+                &self.omega[..n],
+                &self.damping[..n],
+                &self.zeta4[..m],
+                rho_h,
+                e * h,
+                kappa,
+            )
+            .is_ok();
+        if ok {
+            self.size = a;
+            self.write_weights(a);
+        }
+        ok
+    }
+
+    /// Strike and pickup weights `Φ̂_s / a` of the tier in use, zero above
+    /// [`HEARD_FRACTION`]` fs`.
+    fn write_weights(&mut self, a: f64) {
+        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let inv_a = 1.0 / a;
+        let model = &mut self.models[self.tier];
+        let omega = &self.omega;
+        let heard = |s: usize, x: f64| if omega[s] < wmax { x * inv_a } else { 0.0 };
+        for (s, w) in model.force_weights_mut().iter_mut().enumerate() {
+            *w = heard(s, self.strike_w[s]);
+        }
+        for c in 0..2 {
+            for (s, w) in model.pickup_weights_mut(c).iter_mut().enumerate() {
+                *w = heard(s, self.pickup_w[c][s]);
+            }
+        }
+    }
+
+    /// Silences the voice (state at rest). No allocation.
+    pub fn reset(&mut self) {
+        self.models[self.tier].reset();
+        self.strike = None;
+        self.strike_step = 0;
+    }
+
+    /// Advances `left.len()` steps, adding `gain ·` the pickups; `false` on divergence or
+    /// output past [`VOICE_CEILING`].
+    pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        let model = &mut self.models[self.tier];
+        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
+            let f = match self.strike {
+                Some(s) => {
+                    let t = self.strike_step as f64 / self.fs;
+                    self.strike_step += 1;
+                    if t > s.duration {
+                        self.strike = None;
+                    }
+                    s.force(t)
+                }
+                None => 0.0,
+            };
+            if model.step(f).is_err() {
+                return false;
+            }
+            let o = model.outputs();
+            let (a, b) = (gain * o[0], gain * o[1]);
+            if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
+                return false;
+            }
+            *l += a as f32;
+            *r += b as f32;
+        }
+        true
+    }
+
+    /// What the voice simulates for its note.
+    pub fn model_info(&self) -> VoiceModelInfo {
+        let (n, m) = self.data.tiers[self.tier];
+        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let top = self.omega[..n]
+            .iter()
+            .copied()
+            .filter(|&w| w < wmax)
+            .fold(0.0, f64::max);
+        VoiceModelInfo {
+            n_phi: n as u32,
+            n_psi: if self.data.linear { 0 } else { m as u32 },
+            top_mode_hz: (top / TAU) as f32,
+            sim_rate: self.fs as f32,
+        }
+    }
+
+    /// Writes the displacement snapshot (m), the lowest mode frequencies (Hz) and `|q_s|`.
+    pub fn snapshot(
+        &self,
+        disp: &mut [f32; SNAPSHOT_POINTS],
+        freq: &mut [f32; SPECTRUM_MODES],
+        amp: &mut [f32; SPECTRUM_MODES],
+    ) {
+        let q = self.model().q();
+        let (n, stride) = (q.len(), self.data.lambda2.len());
+        for (p, d) in disp.iter_mut().enumerate() {
+            let row = &self.data.snapshot[p * stride..p * stride + n];
+            let w: f64 = row.iter().zip(q).map(|(a, b)| a * b).sum();
+            *d = (w / self.size) as f32;
+        }
+        for s in 0..n.min(SPECTRUM_MODES) {
+            freq[s] = (self.omega[s] / TAU) as f32;
+            amp[s] = q[s].abs() as f32;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ladder halves the mode count every two tiers, stops at 8 modes, and keeps the
+    /// in-plane count in proportion with its floor.
+    #[test]
+    fn ladder_shapes() {
+        let t = tier_ladder(510, 15);
+        assert_eq!(t[0], (510, 15));
+        assert_eq!(t[1], (361, 11));
+        assert_eq!(t[2], (255, 8));
+        assert!(t
+            .iter()
+            .all(|&(n, m)| n >= 8 && (MIN_TIER_PSI..=15).contains(&m)));
+        assert!(t.windows(2).all(|w| w[1].0 < w[0].0));
+        assert_eq!(t.last().unwrap().0, 8);
+        assert_eq!(tier_ladder(50, 0).iter().map(|t| t.1).max(), Some(1));
+        assert_eq!(tier_ladder(6, 2), vec![(6, 2)]);
+    }
+}
