@@ -24,28 +24,21 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+mod mapping;
 mod plate;
 mod string;
+
+pub(crate) use mapping::Physics;
+pub use mapping::VOICE_CEILING;
 
 pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
 pub(crate) use string::StringVoice;
 
-use super::params::{ParamId, ParamValues};
+use super::params::ParamId;
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::models::plate::RaisedCosine;
 use crate::models::source::EnergyTerms;
 use crate::models::string::TrianglePluck;
-
-/// Largest normalised output of one voice (pickup velocity over the model's velocity
-/// reference, see [`super::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
-/// (silenced, its chunk dropped, counted in [`Engine::diverged_voices`]). 1e5 is 100 km/s at a
-/// plate pickup (400 km/s on a string): above the fastest longitudinal wave the parameter
-/// table allows, `√(E_max / ρ_min) = √(5e11 / 500) ≈ 31.6 km/s`, so the strain would exceed 1
-/// and no elastic model holds. Voices get there only by divergence of a conditionally stable
-/// scheme or by parametric pumping (stiffness or tension automated faster than the voice
-/// rings); without the ceiling their output reached inf in f32 before their f64 state
-/// overflowed (found by `tests/robustness/soak.rs`).
-pub const VOICE_CEILING: f64 = 1e5;
 
 /// The model of a voice.
 pub(crate) enum VoiceModel {
@@ -72,25 +65,6 @@ pub(crate) struct Voice {
     pub energy: f64,
     /// Whether the coefficients need a retune before the next step.
     pub dirty: bool,
-}
-
-/// Everything the physical mapping reads, from the parameter snapshot and controllers.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Physics {
-    pub values: ParamValues,
-    /// Pitch bend in semitones.
-    pub bend: f32,
-}
-
-/// Pitch ratio of `key` (see the module doc).
-pub(crate) fn pitch_ratio(v: &ParamValues, key: u8, bend: f32) -> f64 {
-    let semis = key as f64 - v.get(ParamId::RootKey) as f64 + bend as f64;
-    (v.get(ParamId::TuningA4) as f64 / 440.0) * (semis / 12.0).exp2()
-}
-
-/// Release decay rate `σ = ln(1000) / T60` (1/s): amplitude down 60 dB in `T60`.
-pub(crate) fn release_sigma(v: &ParamValues) -> f64 {
-    1000f64.ln() / v.get(ParamId::ReleaseT60) as f64
 }
 
 impl Voice {

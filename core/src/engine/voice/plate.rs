@@ -24,7 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
-use super::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
+use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::kinds::Material;
 use crate::engine::params::ParamId;
 use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};

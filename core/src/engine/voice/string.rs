@@ -3,7 +3,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
-use super::{pitch_ratio, release_sigma, Physics};
+use super::mapping::{pitch_ratio, release_sigma, Physics};
 use crate::engine::params::ParamId;
 use crate::models::string::params::Stiffness;
 use crate::models::string::{StiffString, ValetteLosses};

@@ -1,0 +1,36 @@
+//! What every voice shares: the physical mapping's inputs ([`Physics`]), the note's pitch
+//! ratio, the release rate and the output ceiling (see the module doc of [`super`]).
+//!
+//! Plain functions and `Copy` data, audio thread.
+
+use crate::engine::params::{ParamId, ParamValues};
+
+/// Largest normalised output of one voice (pickup velocity over the model's velocity
+/// reference, see [`crate::engine::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
+/// (silenced, its chunk dropped, counted in [`crate::engine::Engine::diverged_voices`]). 1e5 is 100 km/s at a
+/// plate pickup (400 km/s on a string): above the fastest longitudinal wave the parameter
+/// table allows, `√(E_max / ρ_min) = √(5e11 / 500) ≈ 31.6 km/s`, so the strain would exceed 1
+/// and no elastic model holds. Voices get there only by divergence of a conditionally stable
+/// scheme or by parametric pumping (stiffness or tension automated faster than the voice
+/// rings); without the ceiling their output reached inf in f32 before their f64 state
+/// overflowed (found by `tests/robustness/soak.rs`).
+pub const VOICE_CEILING: f64 = 1e5;
+
+/// Everything the physical mapping reads, from the parameter snapshot and controllers.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Physics {
+    pub values: ParamValues,
+    /// Pitch bend in semitones.
+    pub bend: f32,
+}
+
+/// Pitch ratio of `key` (see the module doc of [`super`]).
+pub(crate) fn pitch_ratio(v: &ParamValues, key: u8, bend: f32) -> f64 {
+    let semis = key as f64 - v.get(ParamId::RootKey) as f64 + bend as f64;
+    (v.get(ParamId::TuningA4) as f64 / 440.0) * (semis / 12.0).exp2()
+}
+
+/// Release decay rate `σ = ln(1000) / T60` (1/s): amplitude down 60 dB in `T60`.
+pub(crate) fn release_sigma(v: &ParamValues) -> f64 {
+    1000f64.ln() / v.get(ParamId::ReleaseT60) as f64
+}
