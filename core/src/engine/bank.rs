@@ -74,7 +74,10 @@ impl Bank {
         let (norm, sim_rate);
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
-            sim_rate = plate_sim_rate(v.get(ParamId::BandLimit) as f64);
+            sim_rate = plate_sim_rate(
+                v.get(ParamId::BandLimit) as f64,
+                v.get(ParamId::SimRate) as f64,
+            );
             voices = plate_voices(kind, v, sim_rate, voices_n, cache)?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;

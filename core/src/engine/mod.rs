@@ -100,6 +100,7 @@ pub use params::{
     ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES, PARAMS,
     PARAM_COUNT, SCHEME_NAMES,
 };
+pub use plate_bank::plate_sim_rate;
 pub use preset::{Preset, PresetValue};
 pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,

@@ -188,8 +188,8 @@ params! {
         "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1.";
     InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true,
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
-    SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 32000.0, LOG, true,
-        "Quality (strings): the string's own time-step rate, resampled to the host rate (plates derive theirs from the band limit).";
+    SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 8000.0, LOG, true,
+        "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz): for them this is a floor, to oversample.";
     Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
         "Quality: plate time scheme.";
     Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true,

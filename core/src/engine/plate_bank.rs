@@ -3,7 +3,8 @@
 //!
 //! The simulation rate of a plate bank follows from the band limit `B`: the modes a note keeps
 //! lie under `B`, and a mode is heard below [`HEARD_FRACTION`]` fs`, so `fs = B / 0.45` rounded
-//! up to 100 Hz (13.4 kHz for the default 6 kHz band).
+//! up to 100 Hz (13.4 kHz for the default 6 kHz band), or the `sim_rate` parameter if higher
+//! (oversampling, for accuracy studies of the time step).
 //!
 //! Worker thread (allocates; seconds for large bases on a cold modal cache).
 
@@ -18,9 +19,10 @@ use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlatePar
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-/// Simulation rate (Hz) of a plate bank with band limit `band_hz` (module doc).
-pub fn plate_sim_rate(band_hz: f64) -> f64 {
-    (band_hz / HEARD_FRACTION / 100.0).ceil() * 100.0
+/// Simulation rate (Hz) of a plate bank with band limit `band_hz` and rate floor `floor_hz`
+/// (module doc).
+pub fn plate_sim_rate(band_hz: f64, floor_hz: f64) -> f64 {
+    ((band_hz / HEARD_FRACTION / 100.0).ceil() * 100.0).max(floor_hz)
 }
 
 /// A polar parameter pair `(r, angle)` as a position: circular plates read it as it is;

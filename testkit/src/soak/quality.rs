@@ -12,7 +12,7 @@
 use super::draw::Draw;
 use super::SoakConfig;
 use noether_core::engine::{
-    Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS,
+    plate_sim_rate, Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS,
 };
 use noether_core::ParamError;
 
@@ -49,9 +49,10 @@ pub(super) fn signature(e: &Engine) -> Option<Signature> {
 }
 
 /// The parameters of a burst's final step (the signature and the quality).
-const FINAL: [ParamId; 6] = [
+const FINAL: [ParamId; 7] = [
     ParamId::Model,
     ParamId::SimRate,
+    ParamId::BandLimit,
     ParamId::Polyphony,
     ParamId::Modes,
     ParamId::InPlaneModes,
@@ -83,12 +84,13 @@ pub fn step(d: &mut Draw, params: &SharedParams) -> Result<u64, ParamError> {
 }
 
 /// The final step of a burst: a model, a simulation rate log-uniform over the whole range
-/// (8 kHz to 400 kHz unless `cfg` lowers it), a scheme, and modes, in-plane modes and
+/// (8 kHz to 400 kHz unless `cfg` lowers it) and a band limit log-uniform over its range (a
+/// plate bank runs at the higher of the two rates, see [`plate_sim_rate`]), a scheme, and modes, in-plane modes and
 /// polyphony within `cfg`'s limits, reduced until `modes · polyphony · sim_rate` fits the
 /// load budget `cfg.budget` (mode-steps per second of audio; the soak stays bounded in wall
 /// time). For a string model its length (the `size` parameter) is drawn here too. The
-/// simulation rate is moved by 1 % if the draw equals `current`'s, so the signature always
-/// changes. Returns the requested signature.
+/// simulation rate is moved by 1 % and the band by 2.5 % if the draw equals `current`'s, so
+/// the signature always changes. Returns the requested signature.
 pub fn finish(
     d: &mut Draw,
     params: &SharedParams,
@@ -107,26 +109,44 @@ pub fn finish(
     .round();
     let mut modes = d.log_between(4.0, cfg.max_modes as f64 + 1.0).floor() as usize;
     let mut poly = 1 + d.below(cfg.max_polyphony as u64) as usize;
+    let band_range = info(ParamId::BandLimit);
+    let mut band = d
+        .log_between(band_range.min as f64, band_range.max as f64)
+        .round();
+    let kind = ModelKind::from_index(model);
+    // The rate the bank will run at (the parameters are `f32`).
+    let rate_of = |sim_rate: f64, band: f64| {
+        let sim = sim_rate as f32 as f64;
+        if kind.is_plate() {
+            plate_sim_rate(band as f32 as f64, sim)
+        } else {
+            sim
+        }
+    };
     let in_plane = if d.chance(0.2) {
         0
     } else {
         d.below(cfg.max_in_plane as u64 + 1) as usize
     };
-    while (modes * poly) as f64 * sim_rate > cfg.budget && (poly > 1 || modes > 4) {
+    while (modes * poly) as f64 * rate_of(sim_rate, band) > cfg.budget && (poly > 1 || modes > 4) {
         if poly > 1 {
             poly -= 1;
         } else {
             modes -= 1;
         }
     }
-    if current.is_some_and(|c| c.sim_rate == sim_rate) {
-        sim_rate = if sim_rate * 1.01 <= rate_hi {
-            (sim_rate * 1.01).round()
-        } else {
-            (sim_rate / 1.01).round()
+    if current.is_some_and(|c| c.sim_rate == rate_of(sim_rate, band)) {
+        // 2.5 % moves a band-derived rate (≥ 8 kHz, rounded to 100 Hz) by at least 200 Hz.
+        let nudge = |x: f64, hi: f64, by: f64| {
+            if x * by <= hi {
+                (x * by).round()
+            } else {
+                (x / by).round()
+            }
         };
+        sim_rate = nudge(sim_rate, rate_hi, 1.01);
+        band = nudge(band, band_range.max as f64, 1.025);
     }
-    let kind = ModelKind::from_index(model);
     if !kind.is_plate() {
         params.set(ParamId::Size, d.value(info(ParamId::Size)))?;
     }
@@ -135,10 +155,11 @@ pub fn finish(
     params.set(ParamId::InPlaneModes, in_plane as f32)?;
     params.set(ParamId::Polyphony, poly as f32)?;
     params.set(ParamId::SimRate, sim_rate as f32)?;
+    params.set(ParamId::BandLimit, band as f32)?;
     params.set(ParamId::Model, model as f32)?;
     Ok(Signature {
         model: kind,
-        sim_rate: sim_rate as f32 as f64,
+        sim_rate: rate_of(sim_rate, band),
         polyphony: poly,
     })
 }
