@@ -6,6 +6,7 @@
 #[global_allocator]
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
+mod cascade;
 mod engine;
 mod engine_alloc;
 mod tiers;

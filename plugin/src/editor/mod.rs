@@ -204,7 +204,18 @@ impl EditorApp {
             .map(|(i, v)| {
                 let e = v.energy;
                 (
-                    format!("#{i} key {}{}", v.key, if v.held { "" } else { " rel." }),
+                    format!(
+                        "#{i} key {}{} · {} modes{} to {:.1} kHz",
+                        v.key,
+                        if v.held { "" } else { " rel." },
+                        v.model.n_phi,
+                        if v.model.n_psi > 0 {
+                            format!(" + {} in-plane", v.model.n_psi)
+                        } else {
+                            String::new()
+                        },
+                        v.model.top_mode_hz / 1000.0
+                    ),
                     [
                         e.kinetic as f32,
                         e.linear as f32,
