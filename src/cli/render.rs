@@ -119,7 +119,8 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
     }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.plot {
-        // Show up to 4x the highest modelled frequency: the cascade spreads energy upwards.
+        // The output holds only modal frequencies: show the model's band (a log axis up to
+        // 1.25x its highest mode, so the band's top stays visible), capped at Nyquist.
         let f_max = report
             .details
             .get("f_max")
@@ -131,7 +132,7 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
             &rendered,
             report.sim_rate,
             scene.output.sample_rate,
-            4.0 * f_max,
+            1.25 * f_max,
         )? {
             eprintln!("  wrote {}", p.display());
         }

@@ -5,7 +5,7 @@ use super::shape_plot::write_shape_png;
 use super::source::ContactSummary;
 use crate::analysis::spectrogram::spectrogram;
 use crate::error::Error;
-use crate::plot::spectrogram::write_spectrogram_png;
+use crate::plot::spectrogram::{write_spectrogram_png, FreqAxis};
 use crate::plot::{write_png, Panel, Series};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -77,8 +77,8 @@ pub fn spectral_centroid(x: &[f64], rate: f64) -> Option<f64> {
 }
 
 /// Writes the energy, waveform and spectrogram PNGs of a render into `dir`, named after
-/// `stem`; returns the paths written. `max_freq` (Hz) limits the spectrogram's frequency axis
-/// (also capped at Nyquist).
+/// `stem`; returns the paths written. `max_freq` (Hz) is the top of the spectrogram's
+/// logarithmic frequency axis (see [`write_spectrogram`]).
 pub fn write_plots(
     dir: &Path,
     stem: &str,
@@ -163,11 +163,30 @@ pub fn write_plots(
     )?;
     written.push(path);
     let ch = &r.out[0];
-    let tt: Vec<f64> = (0..ch.len()).map(|n| n as f64 / out_rate as f64).collect();
-    let wave =
-        Panel::new("pickup 1", "t (s)", "output").push(Series::line("", tt.clone(), ch.clone()));
-    // RMS level over 10 ms frames, in dB relative to the loudest frame, floored at -160 dB.
-    let frame = (out_rate as usize / 100).max(1);
+    written.push(write_waveform_png(dir, stem, ch, out_rate)?);
+    written.push(write_spectrogram(dir, stem, ch, out_rate, max_freq)?);
+    if !r.shapes.is_empty() {
+        let path = dir.join(format!("{stem}-shape.png"));
+        write_shape_png(
+            &path,
+            &format!("{stem}: string shape against the obstacle"),
+            &r.shapes,
+        )?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+/// Bottom of the spectrograms' logarithmic frequency axis (Hz): about twice the bin spacing of
+/// their 2048-sample window at 48 kHz (23 Hz); lower rows would only repeat a few bins.
+pub const SPECTROGRAM_MIN_HZ: f64 = 50.0;
+
+/// Writes `<stem>-waveform.png` into `dir`: channel `ch` at `rate` Hz and its level (10 ms
+/// RMS, dB relative to the loudest frame, floored at -160 dB). Returns the path.
+pub fn write_waveform_png(dir: &Path, stem: &str, ch: &[f64], rate: u32) -> Result<PathBuf, Error> {
+    let tt: Vec<f64> = (0..ch.len()).map(|n| n as f64 / rate as f64).collect();
+    let wave = Panel::new("pickup 1", "t (s)", "output").push(Series::line("", tt, ch.to_vec()));
+    let frame = (rate as usize / 100).max(1);
     let rms: Vec<f64> = ch
         .chunks(frame)
         .map(|c| (c.iter().map(|x| x * x).sum::<f64>() / c.len() as f64).sqrt())
@@ -181,7 +200,7 @@ pub fn write_plots(
         .map(|&r| (20.0 * (r / loudest).log10()).max(-160.0))
         .collect();
     let t_frames: Vec<f64> = (0..db.len())
-        .map(|k| (k * frame) as f64 / out_rate as f64)
+        .map(|k| (k * frame) as f64 / rate as f64)
         .collect();
     let env = Panel::new("level (10 ms RMS)", "t (s)", "dB re loudest frame")
         .push(Series::line("", t_frames, db));
@@ -193,27 +212,33 @@ pub fn write_plots(
         1,
         (1100, 320),
     )?;
-    written.push(path);
-    let spec = spectrogram(ch, out_rate as f64, 2048, 256);
+    Ok(path)
+}
+
+/// Writes `<stem>-spectrogram.png` into `dir`: channel `ch` at `rate` Hz (2048-sample Hann
+/// window, hop 256, 100 dB range) on a logarithmic frequency axis from
+/// [`SPECTROGRAM_MIN_HZ`] to `max_freq` (capped at Nyquist), so a cascade from a few hundred
+/// Hz to kHz is as tall as it is audible. Returns the path.
+pub fn write_spectrogram(
+    dir: &Path,
+    stem: &str,
+    ch: &[f64],
+    rate: u32,
+    max_freq: f64,
+) -> Result<PathBuf, Error> {
+    let spec = spectrogram(ch, rate as f64, 2048, 256);
     let path = dir.join(format!("{stem}-spectrogram.png"));
     write_spectrogram_png(
         &path,
         &format!("{stem}: spectrogram (pickup 1, dB)"),
         &spec,
-        max_freq.min(out_rate as f64 / 2.0),
+        FreqAxis::Log {
+            min: SPECTROGRAM_MIN_HZ,
+            max: max_freq,
+        },
         100.0,
     )?;
-    written.push(path);
-    if !r.shapes.is_empty() {
-        let path = dir.join(format!("{stem}-shape.png"));
-        write_shape_png(
-            &path,
-            &format!("{stem}: string shape against the obstacle"),
-            &r.shapes,
-        )?;
-        written.push(path);
-    }
-    Ok(written)
+    Ok(path)
 }
 
 #[cfg(test)]
