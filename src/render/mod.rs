@@ -5,6 +5,7 @@ pub mod accuracy;
 pub mod auto;
 pub mod offline;
 pub mod preset_accuracy;
+pub mod preset_engine;
 pub mod report;
 pub mod resample;
 pub mod scene;

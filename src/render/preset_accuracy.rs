@@ -7,13 +7,14 @@
 //! largest energy). The linear-partial error in cents is not available through the engine
 //! (`partial_cents` is `None`): a preset's note retunes its modes per key.
 //!
-//! Threads: runs on the calling thread (CLI); the engine's worker thread is started by
-//! [`Engine::activate`] but no rebuild is requested during a render.
+//! Threads: runs on the calling thread (CLI); the engine is started and its bank awaited by
+//! [`super::preset_engine::start_engine`] (as `noether play` does), and no rebuild is
+//! requested during a render.
 
 use super::accuracy::{log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy};
-use crate::engine::{Engine, ParamId, Preset, PresetValue, SharedParams};
+use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
+use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
-use std::sync::Arc;
 
 /// Host rate of preset renders (Hz).
 pub const PRESET_HOST_RATE: f64 = 48_000.0;
@@ -74,13 +75,20 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
     if !(seconds.is_finite() && (0.01..=60.0).contains(&seconds)) {
         return Err(ParamError::new("seconds", seconds, "0.01 to 60"));
     }
-    let params = Arc::new(SharedParams::new());
-    preset.apply(&params)?;
-    params.set(ParamId::Polyphony, 1.0)?;
+    let PresetEngine {
+        mut engine,
+        params,
+        handle: _handle,
+        ..
+    } = start_engine(
+        preset,
+        &[(ParamId::Polyphony, 1.0)],
+        PRESET_HOST_RATE,
+        PRESET_BLOCK,
+        BANK_TIMEOUT,
+    )?;
     let v = params.snapshot();
     let kind = crate::engine::ModelKind::from_params(&v);
-    let (mut engine, _handle) = Engine::new(params.clone());
-    engine.activate(PRESET_HOST_RATE, PRESET_BLOCK)?;
     let key = params.get(ParamId::RootKey) as u8;
     let total = (seconds * PRESET_HOST_RATE).round() as usize;
     let (mut l, mut r) = (vec![0.0f32; PRESET_BLOCK], vec![0.0f32; PRESET_BLOCK]);
