@@ -6,6 +6,7 @@ mod auto;
 mod files;
 mod lab;
 mod modes;
+mod play;
 mod render;
 mod stress;
 
@@ -26,6 +27,10 @@ pub struct Cli {
 pub enum Command {
     /// The integrator lab: the lecture's experiments on one oscillator and on N-DOF systems.
     Lab(lab::LabArgs),
+    /// Play a factory or user preset through the real-time engine, headless, as the plugin
+    /// plays it: notes or a MIDI file to WAV, a JSON report (per-note model, CPU load) and
+    /// (with --plot) PNG figures.
+    Play(play::PlayArgs),
     /// Render a scene file offline to WAV, a JSON report and (with --plot) PNG figures.
     Render(render::RenderArgs),
     /// Measure accuracy against cost: render a scene under several settings (e.g. simulation
@@ -48,6 +53,7 @@ pub fn main() -> ExitCode {
         Some(Command::Auto(args)) => auto::run(args),
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
+        Some(Command::Play(args)) => play::run(args),
         Some(Command::Render(args)) => render::run(args),
         Some(Command::Stress(args)) => stress::run(args),
         None => render::run_default(),

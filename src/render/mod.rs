@@ -3,7 +3,9 @@
 
 pub mod accuracy;
 pub mod auto;
+pub mod midi;
 pub mod offline;
+pub mod play;
 pub mod preset_accuracy;
 pub mod preset_engine;
 pub mod report;

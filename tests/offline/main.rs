@@ -1,4 +1,4 @@
-//! The offline side: scene files and assets, `quality = auto`, preset accuracy.
+//! The offline side: scene files and assets, `quality = auto`, preset accuracy, `noether play`.
 
 /// Every test binary shares one global allocator: `assert_no_alloc`'s, with a per-thread
 /// allocation counter (`noether_testkit::alloc`).
@@ -7,6 +7,7 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod auto;
 mod cli_output;
+mod play;
 mod preset_accuracy;
 mod scene_assets;
 mod scene_errors;

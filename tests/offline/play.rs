@@ -1,0 +1,252 @@
+//! `noether play`: presets played through the real-time engine as the plugin plays them
+//! (src/render/play.rs, src/render/midi.rs, src/cli/play.rs).
+
+use midly::num::{u15, u24, u28, u4, u7};
+use midly::{Format, Header, MetaMessage, MidiMessage, Smf, Timing, TrackEvent, TrackEventKind};
+use noether::render::play::{notes_timeline, play, NoteSpec, PlaySettings};
+use noether::render::preset_engine::find_preset;
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("noether-play-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn noether(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_noether"))
+        .args(args)
+        .env("NOETHER_CACHE", noether_testkit::env::test_cache_dir())
+        .output()
+        .unwrap()
+}
+
+fn read_wav(path: &std::path::Path) -> (u32, u16, Vec<f32>) {
+    let mut r = hound::WavReader::open(path).unwrap();
+    let spec = r.spec();
+    let s = r.samples::<f32>().map(|x| x.unwrap()).collect();
+    (spec.sample_rate, spec.channels, s)
+}
+
+/// A play of gong-40N writes a stereo float WAV of the announced length with finite samples
+/// and a positive peak, and a report with every documented field; the report's peak is the
+/// WAV's (both f32, so equal to round-off: 1e-6 relative).
+#[test]
+fn gong_play_writes_wav_and_report() {
+    let dir = scratch("gong");
+    let wav = dir.join("g.wav");
+    let out = noether(&[
+        "play",
+        "gong-40N",
+        "--note",
+        "C4:127:0.3",
+        "--tail",
+        "0.2",
+        "-q",
+        "-o",
+        wav.to_str().unwrap(),
+        "--plot",
+        dir.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (rate, channels, s) = read_wav(&wav);
+    assert_eq!((rate, channels), (48_000, 2));
+    assert_eq!(s.len(), 2 * 24_000, "0.3 s + 0.2 s at 48 kHz, stereo");
+    assert!(s.iter().all(|x| x.is_finite()));
+    let peak = s.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    assert!(peak > 0.0);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("g.json")).unwrap()).unwrap();
+    for key in [
+        "cpu_seconds_per_audio_second",
+        "max_block_cpu_fraction",
+        "threads",
+        "peak",
+        "peak_dbfs",
+        "nan_count",
+        "seconds",
+    ] {
+        assert!(report[key].is_number(), "report lacks {key}: {report}");
+    }
+    assert_eq!(report["nan_count"], 0);
+    assert!(report["threads"].as_u64().unwrap() >= 1);
+    assert!(report["cpu_seconds_per_audio_second"].as_f64().unwrap() > 0.0);
+    let rp = report["peak"].as_f64().unwrap();
+    assert!((rp - f64::from(peak)).abs() <= 1e-6 * rp, "{rp} vs {peak}");
+    let notes = report["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1);
+    let n = &notes[0];
+    assert_eq!(
+        (n["key"].as_u64(), n["velocity"].as_u64()),
+        (Some(60), Some(127))
+    );
+    assert_eq!(n["start_s"].as_f64(), Some(0.0));
+    // gong-40N: at most 50 transverse and 15 in-plane modes, at 16 kHz (its preset values).
+    let n_phi = n["n_phi"].as_u64().unwrap();
+    assert!((1..=50).contains(&n_phi), "{n}");
+    assert_eq!(n["n_psi"].as_u64(), Some(15));
+    assert_eq!(n["sim_rate"].as_f64(), Some(16_000.0));
+    assert!(n["top_mode_hz"].as_f64().unwrap() > 0.0);
+    for f in ["g-waveform.png", "g-spectrogram.png"] {
+        assert!(std::fs::metadata(dir.join(f)).unwrap().len() > 1000, "{f}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad input is refused before anything is rendered, naming the flag, the value and the range.
+#[test]
+fn bad_values_are_refused_clearly() {
+    for (args, fragments) in [
+        (
+            vec!["--note", "H4"],
+            vec!["--note", "H4", "0 to 127", "C-1 to G9"],
+        ),
+        (vec!["--note", "128"], vec!["--note", "128", "0 to 127"]),
+        (
+            vec!["--note", "C4:0"],
+            vec!["--note", "velocity", "1 to 127"],
+        ),
+        (vec!["--rate", "8000"], vec!["--rate", "8000", "22050"]),
+        (vec!["--block", "0"], vec!["--block", "1 to 8192"]),
+        (vec!["--tail", "-1"], vec!["--tail", "-1"]),
+    ] {
+        let mut all = vec!["play", "gong-40N", "-q"];
+        all.extend(args.iter());
+        let out = noether(&all);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        for f in &fragments {
+            assert!(stderr.contains(f), "{args:?}: `{f}` missing from {stderr}");
+        }
+    }
+    let out = noether(&["play", "no-such-preset", "-q"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("PRESET") && stderr.contains("gong-40N"),
+        "{stderr}"
+    );
+}
+
+fn midi_note(on: bool, key: u8, vel: u8) -> TrackEventKind<'static> {
+    let (key, vel) = (u7::new(key), u7::new(vel));
+    TrackEventKind::Midi {
+        channel: u4::new(0),
+        message: if on {
+            MidiMessage::NoteOn { key, vel }
+        } else {
+            MidiMessage::NoteOff { key, vel }
+        },
+    }
+}
+
+/// A MIDI file written with midly (format 1: a tempo track and a note track; 96 ticks per
+/// quarter at 150 bpm = 400 000 µs, so 96 ticks = 0.4 s) plays its notes at their times and
+/// velocities: the report lists keys 60 and 67, velocities 100 and 50, starts 0.0 and 0.4 s
+/// (to 1e-9 s, round-off of the tick-to-second sums), the render ends 0.1 s (the tail) after
+/// the last event, and the WAV sounds.
+#[test]
+fn midi_file_round_trip() {
+    let dir = scratch("midi");
+    let tempo = vec![
+        TrackEvent {
+            delta: u28::new(0),
+            kind: TrackEventKind::Meta(MetaMessage::Tempo(u24::new(400_000))),
+        },
+        TrackEvent {
+            delta: u28::new(0),
+            kind: TrackEventKind::Meta(MetaMessage::EndOfTrack),
+        },
+    ];
+    let ev = |delta: u32, kind| TrackEvent {
+        delta: u28::new(delta),
+        kind,
+    };
+    let notes = vec![
+        ev(0, midi_note(true, 60, 100)),
+        ev(96, midi_note(true, 67, 50)),
+        ev(48, midi_note(false, 60, 0)),
+        ev(48, midi_note(true, 67, 0)),
+        ev(0, TrackEventKind::Meta(MetaMessage::EndOfTrack)),
+    ];
+    let smf = Smf {
+        header: Header::new(Format::Parallel, Timing::Metrical(u15::new(96))),
+        tracks: vec![tempo, notes],
+    };
+    let mid = dir.join("two.mid");
+    smf.save(&mid).unwrap();
+    let wav = dir.join("two.wav");
+    let out = noether(&[
+        "play",
+        "gong-40N",
+        "--midi",
+        mid.to_str().unwrap(),
+        "--tail",
+        "0.1",
+        "-q",
+        "-o",
+        wav.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("two.json")).unwrap()).unwrap();
+    let notes = report["notes"].as_array().unwrap();
+    let got: Vec<(u64, u64, f64)> = notes
+        .iter()
+        .map(|n| {
+            (
+                n["key"].as_u64().unwrap(),
+                n["velocity"].as_u64().unwrap(),
+                n["start_s"].as_f64().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(got.len(), 2, "{got:?}");
+    assert_eq!((got[0].0, got[0].1), (60, 100));
+    assert_eq!((got[1].0, got[1].1), (67, 50));
+    assert!(
+        got[0].2.abs() < 1e-9 && (got[1].2 - 0.4).abs() < 1e-9,
+        "{got:?}"
+    );
+    // The last event (key 67 off) is at 0.8 s; plus the 0.1 s tail.
+    assert!((report["seconds"].as_f64().unwrap() - 0.9).abs() < 1e-9);
+    let (_, _, s) = read_wav(&wav);
+    assert!(s.iter().any(|&x| x != 0.0) && s.iter().all(|x| x.is_finite()));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Notes start at their sample, inside a block (as a host's sample-accurate events): a note at
+/// 0.1 s (sample 4800, inside the tenth 512-sample block) leaves the output exactly zero before
+/// it, and sounds within the resampler's latency plus 1 ms after it.
+#[test]
+fn notes_start_at_their_sample() {
+    noether_testkit::env::test_cache_dir();
+    let preset = find_preset("gong-40N").unwrap();
+    let note = NoteSpec {
+        seconds: 0.1,
+        ..NoteSpec::new(60)
+    };
+    let tl = notes_timeline(&[note], &[0.1], 0.0).unwrap();
+    let settings = PlaySettings {
+        host_rate: 48_000.0,
+        block: 512,
+        tail: 0.05,
+    };
+    let p = play(&preset, &tl, &settings, |_| {}).unwrap();
+    let left = &p.out[0];
+    assert_eq!(left.len(), 12_000);
+    assert!(
+        left[..4800].iter().all(|&x| x == 0.0),
+        "sound before the note"
+    );
+    // Resampler half-width: 12 zero crossings at 16 kHz = 0.75 ms = 36 host samples; 1 ms more.
+    let first = left.iter().position(|&x| x != 0.0).unwrap();
+    assert!(
+        (4800..4800 + 36 + 48).contains(&first),
+        "first sound at {first}"
+    );
+    assert_eq!(p.report.notes.len(), 1);
+    assert!((p.report.notes[0].start_s - 0.1).abs() < 1e-12);
+}
