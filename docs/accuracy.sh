@@ -7,12 +7,20 @@ cd "$(dirname "$0")/.."
 cargo build --release --quiet
 N=${CARGO_TARGET_DIR:-target}/release/noether
 OUT=docs/figures
-# The default gong scene (100 transverse and 30 in-plane modes, 48 kHz, 60 N strike), 0.3 s.
-GONG=(assets/scenes/gong.toml --set output.seconds=0.3 --out "$OUT")
+# The 0.3 m gong (the full model of gong-auto.toml: 100 transverse and 30 in-plane modes,
+# 48 kHz, 60 N strike), 0.3 s; files named gong-accuracy-*.
+GONG=(assets/scenes/gong-auto.toml --set quality.mode=as-given --set name=gong
+    --set output.seconds=0.3 --out "$OUT")
 "$N" accuracy "${GONG[@]}" --vary scheme --values conservative,conservative-exact,stormer-verlet,sav
 "$N" accuracy "${GONG[@]}" --vary rate --values 12000,24000,48000 --reference-rate 96000
 "$N" accuracy "${GONG[@]}" --vary modes --values 25,50,100
 "$N" accuracy "${GONG[@]}" --vary psi --values 5,10,20,30
+# The default scene, the lecture's gong over its full band (docs/scenes.md, "The default gong"),
+# 0.6 s: its simulation rate and in-plane modes; files named default-gong-accuracy-*.
+DEF=(assets/scenes/gong.toml --set name=default-gong --set output.seconds=0.6 --out "$OUT")
+"$N" accuracy "${DEF[@]}" --vary rate --values 12000,14000,16000,20000 --reference-rate 32000
+"$N" accuracy "${DEF[@]}" --vary psi --values 15,20,30 \
+    --reference-set plate.n_psi=60 --reference-set plate.sim_rate=32000
 # The musical sitar (384 kHz), 0.2 s: how many modes the buzz needs.
 "$N" accuracy assets/scenes/sitar.toml --set output.seconds=0.2 --out "$OUT" \
     --vary modes --values 110,220,440 --reference-set string.modes=880
