@@ -285,6 +285,9 @@ pub struct PlayReport {
     pub bank_sim_rate: Option<f64>,
     /// Wall seconds from activation until the bank was in use (before the loop).
     pub bank_seconds: f64,
+    /// The engine's latency (host samples) as a plugin reports it to the host: the
+    /// resampler's half-width. A note's sound starts this late after its event.
+    pub latency_samples: u32,
     /// Largest absolute sample of either channel.
     pub peak: f64,
     /// `peak` in dB relative to full scale (1.0); -inf for silence (written as `null`).
@@ -423,6 +426,7 @@ pub fn play(
         polyphony: engine.polyphony(),
         bank_sim_rate: engine.sim_rate(),
         bank_seconds,
+        latency_samples: engine.latency_samples(),
         peak,
         peak_dbfs: (peak > 0.0).then(|| 20.0 * peak.log10()),
         nan_count,
