@@ -12,10 +12,15 @@
 //!
 //! Tests run on parallel threads, so the counter is per thread: [`count_allocations`] sees only
 //! what its closure (and anything else on the same thread) allocates.
+//!
+//! The engine's voice-pool workers are other threads: every allocation made on a thread inside
+//! the pool's job loop ([`noether_core::engine::in_voice_job`]) is also counted in one global
+//! counter, [`voice_job_allocations`], which a test reads after driving a threaded engine.
 
 use assert_no_alloc::AllocDisabler;
 use std::alloc::{GlobalAlloc, Layout};
 use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// [`AllocDisabler`] plus a per-thread counter of allocations (reallocations count as one).
 pub struct Guard;
@@ -25,9 +30,15 @@ thread_local! {
     static ALLOCATIONS: Cell<u64> = const { Cell::new(0) };
 }
 
+/// Allocations made by any thread inside the voice pool's job loop.
+static JOB_ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
 fn bump() {
     // `try_with`: the thread-local may already be torn down at thread exit.
     let _ = ALLOCATIONS.try_with(|c| c.set(c.get() + 1));
+    if noether_core::engine::in_voice_job() {
+        JOB_ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+    }
 }
 
 // SAFETY: every call is forwarded unchanged to `AllocDisabler`, itself a checked wrapper of
@@ -62,6 +73,12 @@ pub fn count_allocations<T>(f: impl FnOnce() -> T) -> (T, u64) {
     let before = allocations();
     let r = f();
     (r, allocations() - before)
+}
+
+/// Allocations made inside the engine's voice-pool job loops (any worker thread of any engine)
+/// since the process started (0 if [`Guard`] is not the global allocator).
+pub fn voice_job_allocations() -> u64 {
+    JOB_ALLOCATIONS.load(Ordering::Relaxed)
 }
 
 /// Whether [`Guard`] is this binary's global allocator (a deliberate allocation is counted), so

@@ -11,3 +11,4 @@ mod denormals;
 mod extremes;
 mod hostile;
 mod soak;
+mod threads;

@@ -3,74 +3,86 @@
 use super::bank::{Bank, ModalCache, CHUNK};
 use super::events::{Event, EventKind, GuiCommand};
 use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus};
-use super::kinds::ModelKind;
+use super::mix::{run_bank, Sharing, Tally};
 use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
-use super::telemetry::{Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
+use super::pool::Pool;
+use super::telemetry::Telemetry;
 use super::voice::Physics;
 use crate::error::{check_closed, ParamError};
-use crate::models::source::EnergyTerms;
 use crossbeam_channel::{bounded, Receiver, Sender};
-use ringbuf::traits::{Consumer, Producer, Split};
+use ringbuf::traits::{Consumer, Split};
 use ringbuf::{HeapCons, HeapProd, HeapRb};
-use std::sync::atomic::Ordering;
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 /// Lowest accepted host rate (Hz).
 pub const MIN_HOST_RATE: f64 = 22_050.0;
 /// Highest accepted host rate (Hz).
 pub const MAX_HOST_RATE: f64 = 192_000.0;
-/// A voice ends when its stored energy falls below this fraction of its peak after the
-/// excitation (1e-10: -100 dB in amplitude, since energy goes as amplitude squared).
-pub const SILENCE_RATIO: f64 = 1e-10;
-/// Telemetry frames per second.
-const TELEMETRY_RATE: f64 = 30.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation
 /// costs at most one O(N) retune per voice every 2 ms.
 const RETUNE_INTERVAL: f64 = 0.002;
 /// Cross-fade of a replaced bank (s).
 const FADE: f64 = 0.02;
+/// Events kept while the bank is held by a late voice job (applied when it returns).
+pub(super) const DEFERRED: usize = 256;
 
 /// The real-time engine (audio thread). See the module documentation of [`super`] for the
 /// lifecycle and threading rules.
 pub struct Engine {
-    params: Arc<SharedParams>,
-    values: ParamValues,
+    pub(super) params: Arc<SharedParams>,
+    pub(super) values: ParamValues,
     /// The non-rebuild values and bend the sounding voices were last tuned with.
-    applied: (ParamValues, f32),
-    bank: Option<Box<Bank>>,
-    retiring: Option<(Box<Bank>, usize)>,
-    pending_drop: [Option<Box<Bank>>; 3],
-    overflow: Option<Box<Bank>>,
-    bank_rx: Receiver<Box<Bank>>,
-    retire_tx: Sender<Box<Bank>>,
-    bank_tx: Sender<Box<Bank>>,
-    retire_rx: Receiver<Box<Bank>>,
-    commands: HeapCons<GuiCommand>,
-    telemetry_tx: HeapProd<Telemetry>,
-    status: Arc<WorkerStatus>,
-    worker: Option<Worker>,
-    host_rate: f64,
-    max_block: usize,
-    bend: f32,
-    wheel: f32,
-    sustain: bool,
-    frame: u64,
-    gain: f32,
-    retune_wait: usize,
-    fade_len: usize,
-    scratch: [Vec<f32>; 2],
-    watch: Option<u8>,
-    newton_cap_hits: u64,
-    diverged: u64,
-    refused: u64,
+    pub(super) applied: (ParamValues, f32),
+    pub(super) bank: Option<Box<Bank>>,
+    pub(super) retiring: Option<(Box<Bank>, usize)>,
+    pub(super) pending_drop: [Option<Box<Bank>>; 3],
+    pub(super) overflow: Option<Box<Bank>>,
+    pub(super) bank_rx: Receiver<Box<Bank>>,
+    pub(super) retire_tx: Sender<Box<Bank>>,
+    pub(super) bank_tx: Sender<Box<Bank>>,
+    pub(super) retire_rx: Receiver<Box<Bank>>,
+    pub(super) commands: HeapCons<GuiCommand>,
+    pub(super) telemetry_tx: HeapProd<Telemetry>,
+    pub(super) status: Arc<WorkerStatus>,
+    pub(super) worker: Option<Worker>,
+    /// The voice pool's workers (started by `activate`).
+    pub(super) pool: Option<Pool>,
+    /// The current bank while a late voice job still runs on a worker: nothing but the
+    /// chunk loop touches it, events wait in `deferred` (see `render`).
+    pub(super) held: Option<Box<Bank>>,
+    pub(super) deferred: [EventKind; DEFERRED],
+    pub(super) deferred_len: usize,
+    pub(super) deferred_lost: u64,
+    pub(super) reset_pending: bool,
+    /// Longest wait for the workers' jobs per chunk (`None`: the chunk's duration).
+    pub(super) job_wait: Option<Duration>,
+    /// Threads that shared the last chunk's voices (the audio thread included).
+    pub(super) threads_used: u8,
+    pub(super) late: u64,
+    /// Jobs run by the workers of pools already stopped.
+    pub(super) worker_jobs_past: u64,
+    pub(super) host_rate: f64,
+    pub(super) max_block: usize,
+    pub(super) bend: f32,
+    pub(super) wheel: f32,
+    pub(super) sustain: bool,
+    pub(super) frame: u64,
+    pub(super) gain: f32,
+    pub(super) retune_wait: usize,
+    pub(super) fade_len: usize,
+    pub(super) scratch: [Vec<f32>; 2],
+    pub(super) watch: Option<u8>,
+    pub(super) newton_cap_hits: u64,
+    pub(super) diverged: u64,
+    pub(super) refused: u64,
     // Telemetry accumulators.
-    tele_next: u64,
-    peak: [f32; 2],
-    sumsq: [f64; 2],
-    tele_samples: u64,
-    busy: f64,
-    cpu_peak: f32,
+    pub(super) tele_next: u64,
+    pub(super) peak: [f32; 2],
+    pub(super) sumsq: [f64; 2],
+    pub(super) tele_samples: u64,
+    pub(super) busy: f64,
+    pub(super) cpu_peak: f32,
 }
 
 impl Engine {
@@ -99,6 +111,16 @@ impl Engine {
             telemetry_tx: tel_tx,
             status: status.clone(),
             worker: None,
+            pool: None,
+            held: None,
+            deferred: [EventKind::AllNotesOff; DEFERRED],
+            deferred_len: 0,
+            deferred_lost: 0,
+            reset_pending: false,
+            job_wait: None,
+            threads_used: 1,
+            late: 0,
+            worker_jobs_past: 0,
             host_rate: 48_000.0,
             max_block: 0,
             bend: 0.0,
@@ -133,13 +155,21 @@ impl Engine {
     /// `max_block` samples (1 to 8192 are tested; longer blocks are split internally too):
     /// builds the voice bank for the current parameters on the calling thread (from the modal
     /// cache this takes milliseconds; a new large basis takes seconds) and starts the worker
-    /// thread. Main thread; allocates. Calling it again re-activates (new rate).
+    /// thread and the voice pool (`available_parallelism() - 1` workers; the `threads`
+    /// parameter limits how many share each chunk). Main thread; allocates. Calling it again
+    /// re-activates (new rate).
     pub fn activate(&mut self, host_rate: f64, max_block: usize) -> Result<(), ParamError> {
         check_closed("host_rate", host_rate, MIN_HOST_RATE, MAX_HOST_RATE)?;
         if max_block == 0 {
             return Err(ParamError::new("max_block", 0, "integer >= 1"));
         }
         self.deactivate();
+        // The pool is stopped: no job runs, a held bank can be dropped here.
+        if let Some(h) = self.held.take() {
+            self.bank.get_or_insert(h);
+        }
+        self.deferred_len = 0;
+        self.reset_pending = false;
         // Banks still queued were built for the old rate: drop them here (main thread).
         while self.bank_rx.try_recv().is_ok() {}
         while self.retire_rx.try_recv().is_ok() {}
@@ -169,20 +199,30 @@ impl Engine {
         })
         .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
         self.worker = Some(worker);
+        let pool = Pool::start(Pool::default_workers())
+            .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
+        self.pool = Some(pool);
         Ok(())
     }
 
-    /// Stops the worker thread (main thread). The engine keeps its bank and can still
-    /// process, without rebuilds, until re-activated.
+    /// Stops the worker thread and joins the voice pool's workers (main thread; a worker in
+    /// the middle of a voice finishes it first). The engine keeps its bank and can still
+    /// process, on the audio thread alone and without rebuilds, until re-activated.
     pub fn deactivate(&mut self) {
         if let Some(mut w) = self.worker.take() {
             w.stop();
         }
+        if let Some(mut p) = self.pool.take() {
+            p.stop();
+            self.worker_jobs_past += p.worker_jobs();
+        }
     }
 
     /// Puts every voice at rest, clears the resampler histories, controllers and telemetry
-    /// accumulators. Audio thread safe (no allocation, no drop of a bank).
+    /// accumulators. Audio thread safe (no allocation, no drop of a bank). While a late voice
+    /// job holds the bank, its voices are reset when it returns.
     pub fn reset(&mut self) {
+        self.reset_pending = self.held.is_some();
         if let Some(b) = self.bank.as_mut() {
             for v in &mut b.voices {
                 v.reset();
@@ -198,80 +238,6 @@ impl Engine {
         self.gain = db_to_gain(self.values.get(ParamId::Gain));
         self.retune_wait = 0;
         self.tele_next = self.frame;
-    }
-
-    /// Host rate set by [`Self::activate`] (Hz).
-    pub fn host_rate(&self) -> f64 {
-        self.host_rate
-    }
-
-    /// Latency in host samples (the resampler's half-width; report it to the host).
-    pub fn latency_samples(&self) -> u32 {
-        self.bank
-            .as_ref()
-            .map_or(0, |b| b.latency_host().round() as u32)
-    }
-
-    /// Identifier of the voice bank in use (0 before activation; changes with every swap).
-    pub fn bank_id(&self) -> u64 {
-        self.bank.as_ref().map_or(0, |b| b.id)
-    }
-
-    /// The model of the bank in use.
-    pub fn model(&self) -> Option<ModelKind> {
-        self.bank.as_ref().map(|b| b.kind)
-    }
-
-    /// Simulation rate of the bank in use (Hz).
-    pub fn sim_rate(&self) -> Option<f64> {
-        self.bank.as_ref().map(|b| b.sim_rate)
-    }
-
-    /// Voices in the pool of the bank in use.
-    pub fn polyphony(&self) -> usize {
-        self.bank.as_ref().map_or(0, |b| b.voices.len())
-    }
-
-    /// Sounding voices.
-    pub fn active_voices(&self) -> usize {
-        self.bank
-            .as_ref()
-            .map_or(0, |b| b.voices.iter().filter(|v| v.active).count())
-    }
-
-    /// Energy terms (J) of voice `slot` if it is sounding. O(N) for strings.
-    pub fn voice_energy(&self, slot: usize) -> Option<EnergyTerms> {
-        let v = self.bank.as_ref()?.voices.get(slot)?;
-        v.active.then(|| v.energy_terms())
-    }
-
-    /// What voice `slot` simulates for its note, if it is sounding. O(N_Φ).
-    pub fn voice_model(&self, slot: usize) -> Option<VoiceModelInfo> {
-        let v = self.bank.as_ref()?.voices.get(slot)?;
-        v.active.then(|| v.model_info())
-    }
-
-    /// Key of voice `slot` if it is sounding.
-    pub fn voice_key(&self, slot: usize) -> Option<u8> {
-        let v = self.bank.as_ref()?.voices.get(slot)?;
-        v.active.then_some(v.key)
-    }
-
-    /// Contact Newton solves that hit the cap since creation.
-    pub fn newton_cap_hits(&self) -> u64 {
-        self.newton_cap_hits
-    }
-
-    /// Voices silenced because their state became non-finite or their output passed
-    /// [`VOICE_CEILING`].
-    pub fn diverged_voices(&self) -> u64 {
-        self.diverged
-    }
-
-    /// Notes refused because their coefficients would be unstable (θ = 1 scheme above its
-    /// limit, or an exact-scheme mode on a multiple of π).
-    pub fn refused_notes(&self) -> u64 {
-        self.refused
     }
 
     /// Processes one block without events: `left` and `right` (equal lengths, any length) are
@@ -342,8 +308,18 @@ impl Engine {
         }
     }
 
-    /// Applies one event at the current position.
+    /// Applies one event at the current position (or keeps it while a late job holds the
+    /// bank).
     fn apply(&mut self, kind: EventKind) {
+        if self.held.is_some() {
+            if let Some(slot) = self.deferred.get_mut(self.deferred_len) {
+                *slot = kind;
+                self.deferred_len += 1;
+            } else {
+                self.deferred_lost += 1;
+            }
+            return;
+        }
         match kind {
             EventKind::NoteOn { key, velocity } if velocity > 0.0 && velocity.is_finite() => {
                 self.start_note(key.min(127), velocity.min(1.0))
@@ -437,60 +413,17 @@ impl Engine {
     }
 
     fn poll_commands(&mut self) {
-        while let Some(c) = self.commands.try_pop() {
+        // While a late job holds the bank, commands wait in their queue.
+        while self.held.is_none() {
+            let Some(c) = self.commands.try_pop() else {
+                break;
+            };
             match c {
                 GuiCommand::Event(k) => self.apply(k),
                 GuiCommand::Reset => self.reset(),
                 GuiCommand::Watch(w) => self.watch = w,
             }
         }
-    }
-
-    /// Sends a replaced bank back to the worker, or parks it until the queue has room (new
-    /// banks are accepted only when nothing is parked, so at most two banks are ever parked:
-    /// the slots never overflow and no bank is dropped on the audio thread).
-    fn retire(&mut self, bank: Box<Bank>) {
-        if let Err(e) = self.retire_tx.try_send(bank) {
-            let b = e.into_inner();
-            if let Some(slot) = self.pending_drop.iter_mut().find(|s| s.is_none()) {
-                *slot = Some(b);
-            } else {
-                // Unreachable (see above); keep the bank alive rather than drop it here.
-                self.overflow = Some(b);
-            }
-        }
-    }
-
-    fn swap_bank(&mut self) {
-        for i in 0..self.pending_drop.len() {
-            if let Some(b) = self.pending_drop[i].take() {
-                if let Err(e) = self.retire_tx.try_send(b) {
-                    self.pending_drop[i] = Some(e.into_inner());
-                }
-            }
-        }
-        if self.pending_drop.iter().any(|s| s.is_some()) || self.overflow.is_some() {
-            return;
-        }
-        let Ok(new) = self.bank_rx.try_recv() else {
-            return;
-        };
-        if new.host_rate != self.host_rate {
-            self.retire(new);
-            return;
-        }
-        if let Some((old, _)) = self.retiring.take() {
-            self.retire(old);
-        }
-        if let Some(old) = self.bank.replace(new) {
-            if old.voices.iter().any(|v| v.active) {
-                self.retiring = Some((old, 0));
-            } else {
-                self.retire(old);
-            }
-        }
-        // Notes of the new bank take the current tuning at their start.
-        self.applied = (self.values, self.bend);
     }
 
     fn retune_voices(&mut self, len: usize) {
@@ -500,7 +433,7 @@ impl Engine {
                 .iter()
                 .filter(|p| !p.rebuild)
                 .any(|p| self.applied.0.get(p.id).to_bits() != self.values.get(p.id).to_bits());
-        if !changed || self.retune_wait > 0 {
+        if !changed || self.retune_wait > 0 || self.bank.is_none() {
             return;
         }
         self.applied = (self.values, self.bend);
@@ -517,22 +450,48 @@ impl Engine {
     }
 
     /// Renders one chunk (at most [`CHUNK`] samples).
+    ///
+    /// When a voice job is late (still running on a worker after the bounded wait), the bank
+    /// is held aside: only this loop touches it (through its job lanes), so its other voices
+    /// keep sounding, while events and GUI commands wait; when the job is done the bank
+    /// returns and the waiting events apply, in order.
     fn render(&mut self, left: &mut [f32], right: &mut [f32]) {
         let len = left.len();
         self.swap_bank();
         self.retune_voices(len);
         left.fill(0.0);
         right.fill(0.0);
-        let (mut hits, mut div) = (0, 0);
+        let mut t = Tally::default();
+        // Participants from the `threads` parameter (0: every worker and the audio thread),
+        // at most the pool's workers plus one.
+        let workers = self.pool.as_ref().map_or(0, |p| p.workers());
+        let want = match self.values.index_of(ParamId::Threads) {
+            0 => workers + 1,
+            t => t.min(workers + 1),
+        };
+        self.threads_used = want as u8;
+        let share = Sharing {
+            pool: self.pool.as_ref(),
+            helpers: want - 1,
+            wait: self
+                .job_wait
+                .unwrap_or_else(|| Duration::from_secs_f64(len as f64 / self.host_rate)),
+        };
+        let mut hold = false;
+        let mut release = false;
         if let Some(b) = self.bank.as_mut() {
-            run_bank(b, left, right, &mut hits, &mut div);
+            hold = run_bank(b, share, left, right, &mut t);
+        } else if let Some(b) = self.held.as_mut() {
+            release = !run_bank(b, share, left, right, &mut t);
         }
         if let Some((old, done)) = self.retiring.as_mut() {
             let [sl, sr] = &mut self.scratch;
             let (sl, sr) = (&mut sl[..len], &mut sr[..len]);
             sl.fill(0.0);
             sr.fill(0.0);
-            run_bank(old, sl, sr, &mut hits, &mut div);
+            // A late job of the retiring bank needs nothing more: the bank is only run here
+            // and handed away only when the pool is quiescent.
+            run_bank(old, share, sl, sr, &mut t);
             for i in 0..len {
                 let g = 1.0 - ((*done + i) as f32 / self.fade_len as f32).min(1.0);
                 left[i] += g * sl[i];
@@ -545,8 +504,24 @@ impl Engine {
                 }
             }
         }
-        self.newton_cap_hits += hits;
-        self.diverged += div;
+        self.newton_cap_hits += t.hits;
+        self.diverged += t.diverged;
+        self.late += t.late;
+        if hold {
+            self.held = self.bank.take();
+        } else if release {
+            self.bank = self.held.take();
+            if std::mem::take(&mut self.reset_pending) {
+                if let Some(b) = self.bank.as_mut() {
+                    for v in &mut b.voices {
+                        v.reset();
+                    }
+                }
+            }
+            for i in 0..std::mem::take(&mut self.deferred_len) {
+                self.apply(self.deferred[i]);
+            }
+        }
         // Output gain, smoothed per sample towards the target (time constant about 5 ms).
         let target = db_to_gain(self.values.get(ParamId::Gain));
         let k = 1.0 - (-1.0 / (0.005 * self.host_rate as f32)).exp();
@@ -556,79 +531,6 @@ impl Engine {
             *r *= self.gain;
         }
         self.frame += len as u64;
-    }
-
-    fn account(&mut self, left: &[f32], right: &[f32], start: Instant) {
-        for (c, x) in [left, right].into_iter().enumerate() {
-            for &s in x {
-                self.peak[c] = self.peak[c].max(s.abs());
-                self.sumsq[c] += (s as f64) * (s as f64);
-            }
-        }
-        self.tele_samples += left.len() as u64;
-        let dur = left.len() as f64 / self.host_rate;
-        let spent = start.elapsed().as_secs_f64();
-        self.busy += spent;
-        if dur > 0.0 {
-            self.cpu_peak = self.cpu_peak.max((spent / dur) as f32);
-        }
-        if self.frame >= self.tele_next {
-            self.tele_next = self.frame + (self.host_rate / TELEMETRY_RATE) as u64;
-            self.send_telemetry();
-        }
-    }
-
-    fn send_telemetry(&mut self) {
-        let mut t = Telemetry {
-            frame: self.frame,
-            cpu_load: (self.busy / (self.tele_samples.max(1) as f64 / self.host_rate)) as f32,
-            cpu_peak: self.cpu_peak,
-            rebuilding: self.status.rebuilding.load(Ordering::Acquire),
-            newton_cap_hits: self.newton_cap_hits,
-            diverged: self.diverged,
-            ..Telemetry::default()
-        };
-        for c in 0..2 {
-            t.peak[c] = self.peak[c];
-            t.rms[c] = (self.sumsq[c] / self.tele_samples.max(1) as f64).sqrt() as f32;
-        }
-        self.peak = [0.0; 2];
-        self.sumsq = [0.0; 2];
-        self.tele_samples = 0;
-        self.busy = 0.0;
-        self.cpu_peak = 0.0;
-        if let Some(b) = self.bank.as_mut() {
-            t.bank = b.id;
-            t.sim_rate = b.sim_rate as f32;
-            let mut loudest: Option<(usize, f64)> = None;
-            for (i, v) in b.voices.iter().enumerate().take(MAX_VOICES) {
-                if !v.active {
-                    continue;
-                }
-                let e = v.energy_terms();
-                t.voices[i] = VoiceTelemetry {
-                    active: true,
-                    key: v.key,
-                    held: v.held || v.sustained,
-                    energy: e,
-                    age: ((self.frame - v.started) as f64 / self.host_rate) as f32,
-                    model: v.model_info(),
-                };
-                t.active_voices += 1;
-                if loudest.is_none_or(|(_, x)| e.total() > x) {
-                    loudest = Some((i, e.total()));
-                }
-            }
-            let watched = match self.watch {
-                Some(w) if b.voices.get(w as usize).is_some_and(|v| v.active) => Some(w as usize),
-                _ => loudest.map(|l| l.0),
-            };
-            if let Some(w) = watched {
-                t.watched = Some(w as u8);
-                b.voices[w].snapshot(&mut t.displacement, &mut t.mode_freq, &mut t.mode_amplitude);
-            }
-        }
-        let _ = self.telemetry_tx.try_push(t);
     }
 }
 
@@ -640,45 +542,4 @@ impl Drop for Engine {
 
 fn db_to_gain(db: f32) -> f32 {
     10f32.powf(db / 20.0)
-}
-
-/// Runs every active voice of `b` for the chunk and resamples into `left`/`right`.
-fn run_bank(b: &mut Bank, left: &mut [f32], right: &mut [f32], hits: &mut u64, div: &mut u64) {
-    let m = b.resampler.input_needed(left.len());
-    let any = b.voices.iter().any(|v| v.active);
-    if !any && b.resampler.is_silent() {
-        b.resampler.advance_silent(left.len(), m);
-        left.fill(0.0);
-        right.fill(0.0);
-        return;
-    }
-    let (sl, sr) = (&mut b.sim_l[..m], &mut b.sim_r[..m]);
-    let (vl, vr) = (&mut b.voice_l[..m], &mut b.voice_r[..m]);
-    sl.fill(0.0);
-    sr.fill(0.0);
-    for v in b.voices.iter_mut().filter(|v| v.active) {
-        vl.fill(0.0);
-        vr.fill(0.0);
-        if !v.run(vl, vr, b.norm) {
-            v.reset();
-            *div += 1;
-            continue;
-        }
-        for i in 0..m {
-            sl[i] += vl[i];
-            sr[i] += vr[i];
-        }
-        *hits += v.take_cap_hits();
-        let e = v.level_energy();
-        v.energy = e;
-        v.peak_energy = v.peak_energy.max(e);
-        if !v.exciting() && (!e.is_finite() || e <= SILENCE_RATIO * v.peak_energy) {
-            if !e.is_finite() {
-                *div += 1;
-            }
-            v.reset();
-        }
-    }
-    b.resampler.push(sl, sr);
-    b.resampler.produce(left, right);
 }

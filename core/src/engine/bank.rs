@@ -9,6 +9,7 @@
 use super::kinds::ModelKind;
 use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
+use super::pool::Lanes;
 use super::resample::Resampler;
 use super::voice::{StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
@@ -46,14 +47,15 @@ pub(crate) struct Bank {
     pub host_rate: f64,
     pub voices: Vec<Voice>,
     pub resampler: Resampler,
+    /// The chunk's mix, left (simulation rate; audio thread).
     pub sim_l: Vec<f32>,
+    /// The chunk's mix, right.
     pub sim_r: Vec<f32>,
-    /// One voice's output for the current chunk (simulation rate), added to `sim_l`/`sim_r`
-    /// only if the voice stayed within [`super::VOICE_CEILING`] (a runaway voice's partial
-    /// chunk is dropped with it).
-    pub voice_l: Vec<f32>,
-    /// See [`Self::voice_l`].
-    pub voice_r: Vec<f32>,
+    /// One job lane per voice (same index): the voice's output for the current chunk
+    /// (simulation rate), written by whichever thread of the voice pool runs the voice and
+    /// added to `sim_l`/`sim_r` by the audio thread, in voice order, only if the voice stayed
+    /// within [`super::VOICE_CEILING`] (a runaway voice's partial chunk is dropped with it).
+    pub lanes: Box<Lanes>,
     /// Output scale (1 / velocity reference).
     pub norm: f64,
 }
@@ -152,8 +154,7 @@ impl Bank {
             resampler,
             sim_l: vec![0.0; max_in],
             sim_r: vec![0.0; max_in],
-            voice_l: vec![0.0; max_in],
-            voice_r: vec![0.0; max_in],
+            lanes: Lanes::new(voices_n, max_in),
             norm,
         })
     }

@@ -83,24 +83,30 @@ mod audio;
 mod bank;
 mod events;
 mod handle;
+mod handover;
 mod kinds;
+mod mix;
 pub mod params;
 mod plate_bank;
+mod pool;
 pub mod preset;
+mod readout;
 pub mod resample;
 mod telemetry;
 pub mod voice;
 
-pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE, SILENCE_RATIO};
+pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::{Material, ModelKind};
+pub use mix::SILENCE_RATIO;
 pub use params::{
     ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES, PARAMS,
     PARAM_COUNT, SCHEME_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
+pub use pool::in_voice_job;
 pub use preset::{Preset, PresetValue};
 pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,

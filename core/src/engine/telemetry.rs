@@ -68,10 +68,23 @@ pub struct Telemetry {
     pub mode_freq: [f32; SPECTRUM_MODES],
     /// Amplitudes `|q_s|` of those modes (model units: m² for plates, m^3/2 for strings).
     pub mode_amplitude: [f32; SPECTRUM_MODES],
-    /// Fraction of real time spent in `process` over the last frame (1 = 100 % of one core).
+    /// CPU time of every thread working on the audio over the last frame, per second of
+    /// audio: the audio thread's time in `process` plus the voice pool's workers' thread CPU
+    /// time (1 = one core fully busy; up to the number of threads). Written on the audio
+    /// thread.
     pub cpu_load: f32,
-    /// Largest single-block load in the last frame (block time / block duration).
+    /// The audio thread's time in `process` over the last frame, per second of audio: the
+    /// share that must stay below 1 for real time (it includes waiting for the workers).
+    pub audio_load: f32,
+    /// Largest single-block load of the audio thread in the last frame (block time / block
+    /// duration).
     pub cpu_peak: f32,
+    /// Threads that shared the last chunk's voices, the audio thread included (the `threads`
+    /// parameter, capped at the machine's cores).
+    pub threads: u8,
+    /// Voice jobs still running on a worker when the audio thread's bounded wait ended,
+    /// since activation (their chunks were left out of the mix; see `Engine::set_job_wait`).
+    pub late_jobs: u64,
     /// Whether the worker is building a new voice bank.
     pub rebuilding: bool,
     /// Identifier of the voice bank in use (increments with every swap).
@@ -100,7 +113,10 @@ impl Default for Telemetry {
             mode_freq: [0.0; SPECTRUM_MODES],
             mode_amplitude: [0.0; SPECTRUM_MODES],
             cpu_load: 0.0,
+            audio_load: 0.0,
             cpu_peak: 0.0,
+            threads: 1,
+            late_jobs: 0,
             rebuilding: false,
             bank: 0,
             newton_cap_hits: 0,

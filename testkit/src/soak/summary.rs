@@ -107,6 +107,14 @@ pub struct SoakSummary {
     pub refused_notes: u64,
     /// Banks the worker built.
     pub banks_built: u64,
+    /// Blocks whose chunks shared the voices between two threads or more (the `threads`
+    /// parameter is automated with the others).
+    pub threaded_blocks: u64,
+    /// Voice jobs run by the voice pool's workers, and jobs still running past the audio
+    /// thread's bounded wait (late: the voice's chunk left out), at the end.
+    pub worker_jobs: u64,
+    /// See [`Self::worker_jobs`].
+    pub late_jobs: u64,
     busy: f64,
 }
 
@@ -139,6 +147,9 @@ impl SoakSummary {
         self.busy += spent.as_secs_f64();
         self.block_range = (self.block_range.0.min(n), self.block_range.1.max(n));
         self.peak_level = self.peak_level.max(level);
+        if e.threads_used() > 1 {
+            self.threaded_blocks += 1;
+        }
         if let Some(m) = e.model() {
             let i = ModelKind::ALL.iter().position(|&k| k == m).unwrap_or(0);
             self.model_blocks[i] += 1;
@@ -171,6 +182,8 @@ impl SoakSummary {
         self.diverged_voices = e.diverged_voices();
         self.refused_notes = e.refused_notes();
         self.banks_built = h.banks_built();
+        self.worker_jobs = e.worker_jobs();
+        self.late_jobs = e.late_jobs();
     }
 }
 
@@ -234,6 +247,11 @@ impl fmt::Display for SoakSummary {
             "  largest output level {:.3e} (normalised, before gain; bound {:e})",
             self.peak_level,
             super::LEVEL_BOUND
+        )?;
+        writeln!(
+            f,
+            "  voice pool: {} threaded blocks, {} jobs on workers, {} late jobs",
+            self.threaded_blocks, self.worker_jobs, self.late_jobs
         )?;
         write!(
             f,

@@ -1,0 +1,156 @@
+//! One chunk of one bank: its sounding voices run as jobs of the voice pool (or on the audio
+//! thread alone), then, on the audio thread and in voice order, their outputs are summed, the
+//! divergence and silence checks and the energy bookkeeping applied, and the sum resampled to
+//! the host rate.
+//!
+//! The sum runs in voice order whatever thread ran each voice, and each voice writes only its
+//! own lane, so the output is bit-identical for any number of threads (as long as no job is
+//! late; a late voice's chunk is left out of the mix, see [`super::pool`]).
+//!
+//! Threads: audio thread; the jobs run on the pool's workers and the audio thread.
+
+use super::bank::Bank;
+use super::pool::{Lanes, Pool};
+use super::voice::Voice;
+use std::time::Duration;
+
+/// A voice ends when its stored energy falls below this fraction of its peak after the
+/// excitation (1e-10: -100 dB in amplitude, since energy goes as amplitude squared).
+pub const SILENCE_RATIO: f64 = 1e-10;
+
+/// How the chunk's voice jobs are shared.
+#[derive(Clone, Copy)]
+pub(crate) struct Sharing<'a> {
+    /// The worker pool (`None`: the audio thread alone).
+    pub pool: Option<&'a Pool>,
+    /// Workers invited besides the audio thread.
+    pub helpers: usize,
+    /// Longest wait for the jobs workers hold once the audio thread has run out of jobs.
+    pub wait: Duration,
+}
+
+/// Counters a chunk adds to (the engine's totals).
+#[derive(Default)]
+pub(crate) struct Tally {
+    /// Contact Newton solves that hit their cap.
+    pub hits: u64,
+    /// Voices silenced as diverged.
+    pub diverged: u64,
+    /// Voice jobs still running when the wait ended (their chunk left out of the mix).
+    pub late: u64,
+}
+
+/// Voice `i` of the bank whose voice list starts at `base`, if its lane is at rest.
+///
+/// # Safety
+///
+/// `base` comes from `Vec::as_mut_ptr` of the bank's voice list, obtained in the current
+/// chunk, `i` is in range, and the caller holds the bank exclusively (`&mut Bank`) and makes
+/// no other reference to this voice while the returned one lives.
+unsafe fn voice_at<'a>(base: *mut Voice, lanes: &Lanes, i: usize) -> Option<&'a mut Voice> {
+    // SAFETY: a lane at rest means no participant holds the voice (pool state diagram); the
+    // rest is the caller's contract.
+    lanes.is_idle(i).then(|| unsafe { &mut *base.add(i) })
+}
+
+/// Bookkeeping of voice `v` after a job (`ok`: it stayed finite and under the ceiling).
+fn settle(v: &mut Voice, ok: bool, t: &mut Tally) {
+    if !ok {
+        v.reset();
+        t.diverged += 1;
+        return;
+    }
+    t.hits += v.take_cap_hits();
+    let e = v.level_energy();
+    v.energy = e;
+    v.peak_energy = v.peak_energy.max(e);
+    if !v.exciting() && (!e.is_finite() || e <= SILENCE_RATIO * v.peak_energy) {
+        if !e.is_finite() {
+            t.diverged += 1;
+        }
+        v.reset();
+    }
+}
+
+/// Runs every sounding voice of `b` for the chunk and resamples into `left`/`right`.
+/// Returns whether a voice job is still running (a late worker): the caller must then not
+/// touch the bank's voice list until a later call returns `false` (then every lane is at
+/// rest). Never touches a voice whose lane is not at rest.
+pub(crate) fn run_bank(
+    b: &mut Bank,
+    share: Sharing,
+    left: &mut [f32],
+    right: &mut [f32],
+    t: &mut Tally,
+) -> bool {
+    let m = b.resampler.input_needed(left.len());
+    let n = b.voices.len().min(b.lanes.len());
+    // Raw pointer into the voice list: the voices are reached one by one, never through a
+    // slice that would cover a voice a worker still holds.
+    let base = b.voices.as_mut_ptr();
+    let lanes = &*b.lanes;
+    // Results of late jobs that have finished since: bookkeeping, samples dropped.
+    for i in 0..n {
+        if let Some((ok, _, _)) = lanes.take(i) {
+            // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
+            settle(unsafe { &mut *base.add(i) }, ok, t);
+        }
+    }
+    let mut queued = 0u64;
+    for i in 0..n {
+        // SAFETY: `base` is this chunk's, `i < n`, the bank is held exclusively; the reference
+        // ends within the iteration.
+        if let Some(v) = unsafe { voice_at(base, lanes, i) } {
+            if v.active {
+                lanes.queue(i, v, m, b.norm);
+                queued |= 1 << i;
+            }
+        }
+    }
+    if queued == 0 && b.resampler.is_silent() {
+        b.resampler.advance_silent(left.len(), m);
+        left.fill(0.0);
+        right.fill(0.0);
+        return lanes.any_busy();
+    }
+    match share.pool {
+        Some(p) if share.helpers > 0 && queued.count_ones() > 1 => {
+            p.run(lanes, queued, share.helpers, share.wait)
+        }
+        _ => {
+            lanes.claim(0);
+        }
+    }
+    let (sl, sr) = (&mut b.sim_l[..m], &mut b.sim_r[..m]);
+    sl.fill(0.0);
+    sr.fill(0.0);
+    for i in (0..n).filter(|i| queued >> i & 1 == 1) {
+        match lanes.take(i) {
+            Some((ok, vl, vr)) => {
+                if ok {
+                    for k in 0..m {
+                        sl[k] += vl[k];
+                        sr[k] += vr[k];
+                    }
+                }
+                // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
+                settle(unsafe { &mut *base.add(i) }, ok, t);
+            }
+            None => t.late += 1,
+        }
+    }
+    b.resampler.push(sl, sr);
+    b.resampler.produce(left, right);
+    let hold = lanes.any_busy();
+    if !hold {
+        // A late job may have ended since its lane was looked at: settle it now, so the
+        // bank's voices all rest with the audio thread between chunks.
+        for i in 0..n {
+            if let Some((ok, _, _)) = lanes.take(i) {
+                // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
+                settle(unsafe { &mut *base.add(i) }, ok, t);
+            }
+        }
+    }
+    hold
+}

@@ -1,0 +1,209 @@
+//! What the engine tells: read-outs for the host and tests, and the telemetry frames it sends
+//! to the GUI (about 30 a second, through a ringbuf queue).
+//!
+//! Threads: the read-outs on whichever thread owns the engine; `account` and the telemetry on
+//! the audio thread (no allocation: the frame is plain `Copy` data).
+
+use super::audio::Engine;
+use super::bank::Bank;
+use super::kinds::ModelKind;
+use super::telemetry::{Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
+use crate::models::source::EnergyTerms;
+use ringbuf::traits::Producer;
+use std::sync::atomic::Ordering;
+use std::time::{Duration, Instant};
+
+/// Telemetry frames per second.
+const TELEMETRY_RATE: f64 = 30.0;
+
+impl Engine {
+    /// Sets the longest time the audio thread waits, per chunk, for the voice jobs workers
+    /// hold once it has no job left to run itself (`None`, the default: the chunk's duration
+    /// at the host rate, 1.3 ms for 64 samples at 48 kHz). A job still running then is late:
+    /// its voice's chunk is left out of the mix and counted ([`Self::late_jobs`]). Offline
+    /// renders and tests that compare outputs bit for bit set a long wait (any thread that
+    /// owns the engine).
+    pub fn set_job_wait(&mut self, wait: Option<Duration>) {
+        self.job_wait = wait;
+    }
+
+    /// Voice jobs that were still running on a worker when the audio thread's wait ended,
+    /// since the engine was created (their chunks were left out of the mix).
+    pub fn late_jobs(&self) -> u64 {
+        self.late
+    }
+
+    /// Threads that shared the last chunk's voices, the audio thread included (1: the audio
+    /// thread alone).
+    pub fn threads_used(&self) -> usize {
+        self.threads_used as usize
+    }
+
+    /// Voice jobs run by the voice pool's workers (not the audio thread) since the engine
+    /// was created.
+    pub fn worker_jobs(&self) -> u64 {
+        self.worker_jobs_past + self.pool.as_ref().map_or(0, |p| p.worker_jobs())
+    }
+
+    /// Events lost because more than 256 arrived while a late job held the bank.
+    pub fn deferred_events_lost(&self) -> u64 {
+        self.deferred_lost
+    }
+
+    /// Host rate set by [`Self::activate`] (Hz).
+    pub fn host_rate(&self) -> f64 {
+        self.host_rate
+    }
+
+    /// Latency in host samples (the resampler's half-width; report it to the host).
+    pub fn latency_samples(&self) -> u32 {
+        self.any_bank()
+            .map_or(0, |b| b.latency_host().round() as u32)
+    }
+
+    /// Identifier of the voice bank in use (0 before activation; changes with every swap).
+    pub fn bank_id(&self) -> u64 {
+        self.any_bank().map_or(0, |b| b.id)
+    }
+
+    /// The model of the bank in use.
+    pub fn model(&self) -> Option<ModelKind> {
+        self.any_bank().map(|b| b.kind)
+    }
+
+    /// Simulation rate of the bank in use (Hz).
+    pub fn sim_rate(&self) -> Option<f64> {
+        self.any_bank().map(|b| b.sim_rate)
+    }
+
+    /// Voices in the pool of the bank in use.
+    pub fn polyphony(&self) -> usize {
+        self.any_bank().map_or(0, |b| b.voices.len())
+    }
+
+    /// The bank in use, also while a late voice job holds it (bank-level values only: its
+    /// voices must not be read then).
+    fn any_bank(&self) -> Option<&Bank> {
+        self.bank.as_deref().or(self.held.as_deref())
+    }
+
+    /// Sounding voices (0 while a late voice job holds the bank, for a chunk or so).
+    pub fn active_voices(&self) -> usize {
+        self.bank
+            .as_ref()
+            .map_or(0, |b| b.voices.iter().filter(|v| v.active).count())
+    }
+
+    /// Energy terms (J) of voice `slot` if it is sounding. O(N) for strings.
+    pub fn voice_energy(&self, slot: usize) -> Option<EnergyTerms> {
+        let v = self.bank.as_ref()?.voices.get(slot)?;
+        v.active.then(|| v.energy_terms())
+    }
+
+    /// What voice `slot` simulates for its note, if it is sounding. O(N_Φ).
+    pub fn voice_model(&self, slot: usize) -> Option<VoiceModelInfo> {
+        let v = self.bank.as_ref()?.voices.get(slot)?;
+        v.active.then(|| v.model_info())
+    }
+
+    /// Key of voice `slot` if it is sounding.
+    pub fn voice_key(&self, slot: usize) -> Option<u8> {
+        let v = self.bank.as_ref()?.voices.get(slot)?;
+        v.active.then_some(v.key)
+    }
+
+    /// Contact Newton solves that hit the cap since creation.
+    pub fn newton_cap_hits(&self) -> u64 {
+        self.newton_cap_hits
+    }
+
+    /// Voices silenced because their state became non-finite or their output passed
+    /// [`super::VOICE_CEILING`].
+    pub fn diverged_voices(&self) -> u64 {
+        self.diverged
+    }
+
+    /// Notes refused because their coefficients would be unstable (θ = 1 scheme above its
+    /// limit, or an exact-scheme mode on a multiple of π).
+    pub fn refused_notes(&self) -> u64 {
+        self.refused
+    }
+
+    pub(super) fn account(&mut self, left: &[f32], right: &[f32], start: Instant) {
+        for (c, x) in [left, right].into_iter().enumerate() {
+            for &s in x {
+                self.peak[c] = self.peak[c].max(s.abs());
+                self.sumsq[c] += (s as f64) * (s as f64);
+            }
+        }
+        self.tele_samples += left.len() as u64;
+        let dur = left.len() as f64 / self.host_rate;
+        let spent = start.elapsed().as_secs_f64();
+        self.busy += spent;
+        if dur > 0.0 {
+            self.cpu_peak = self.cpu_peak.max((spent / dur) as f32);
+        }
+        if self.frame >= self.tele_next {
+            self.tele_next = self.frame + (self.host_rate / TELEMETRY_RATE) as u64;
+            self.send_telemetry();
+        }
+    }
+
+    fn send_telemetry(&mut self) {
+        let audio_s = self.tele_samples.max(1) as f64 / self.host_rate;
+        let workers = self.pool.as_mut().map_or(0.0, |p| p.take_cpu());
+        let mut t = Telemetry {
+            frame: self.frame,
+            cpu_load: ((self.busy + workers) / audio_s) as f32,
+            audio_load: (self.busy / audio_s) as f32,
+            cpu_peak: self.cpu_peak,
+            threads: self.threads_used,
+            late_jobs: self.late,
+            rebuilding: self.status.rebuilding.load(Ordering::Acquire),
+            newton_cap_hits: self.newton_cap_hits,
+            diverged: self.diverged,
+            ..Telemetry::default()
+        };
+        for c in 0..2 {
+            t.peak[c] = self.peak[c];
+            t.rms[c] = (self.sumsq[c] / self.tele_samples.max(1) as f64).sqrt() as f32;
+        }
+        self.peak = [0.0; 2];
+        self.sumsq = [0.0; 2];
+        self.tele_samples = 0;
+        self.busy = 0.0;
+        self.cpu_peak = 0.0;
+        if let Some(b) = self.bank.as_mut() {
+            t.bank = b.id;
+            t.sim_rate = b.sim_rate as f32;
+            let mut loudest: Option<(usize, f64)> = None;
+            for (i, v) in b.voices.iter().enumerate().take(MAX_VOICES) {
+                if !v.active {
+                    continue;
+                }
+                let e = v.energy_terms();
+                t.voices[i] = VoiceTelemetry {
+                    active: true,
+                    key: v.key,
+                    held: v.held || v.sustained,
+                    energy: e,
+                    age: ((self.frame - v.started) as f64 / self.host_rate) as f32,
+                    model: v.model_info(),
+                };
+                t.active_voices += 1;
+                if loudest.is_none_or(|(_, x)| e.total() > x) {
+                    loudest = Some((i, e.total()));
+                }
+            }
+            let watched = match self.watch {
+                Some(w) if b.voices.get(w as usize).is_some_and(|v| v.active) => Some(w as usize),
+                _ => loudest.map(|l| l.0),
+            };
+            if let Some(w) = watched {
+                t.watched = Some(w as u8);
+                b.voices[w].snapshot(&mut t.displacement, &mut t.mode_freq, &mut t.mode_amplitude);
+            }
+        }
+        let _ = self.telemetry_tx.try_push(t);
+    }
+}
