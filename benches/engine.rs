@@ -7,6 +7,15 @@
 //! on the shared 2-core machine other builds take the core away for part of an iteration,
 //! which inflates wall time but not the engine's own CPU time. `NOETHER_BENCH_WALL=1` measures
 //! wall time instead (criterion's default).
+//!
+//! The group `engine_pool_0.1s_48k` compares the voice pool's `threads` = 1 (the audio thread
+//! alone) with `threads` = 0 (every core): four gong voices (gong-40N at 300 modes, 15 in-plane
+//! modes, SAV scheme). Its clock is the CPU time of the whole process
+//! (`CLOCK_PROCESS_CPUTIME_ID`: the audio thread plus the pool's workers, plus the idle bank
+//! builder's polls), so the two settings compare in CPU spent per second of audio; with
+//! `NOETHER_BENCH_WALL=1` it measures wall time, the real-time ratio (valid only on an
+//! otherwise idle machine: state the load from `uptime`). After each setting it prints the
+//! engine's late jobs (0 expected).
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -27,10 +36,25 @@ fn thread_cpu_time() -> Duration {
     Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
 }
 
-/// Criterion measurement: CPU time of the benchmark thread (or wall time, see the file doc).
+/// CPU time consumed by every thread of the process so far.
+fn process_cpu_time() -> Duration {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: as in `thread_cpu_time`, with CLOCK_PROCESS_CPUTIME_ID (Linux since 2.6.12).
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID) failed");
+    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}
+
+/// Criterion measurement: CPU time of the benchmark thread or of the whole process, or wall
+/// time (see the file doc).
 struct Cpu {
-    /// Measure wall time instead of the thread's CPU time.
+    /// Measure wall time instead of CPU time.
     wall: bool,
+    /// CPU time of every thread of the process, not only the benchmark thread.
+    process: bool,
     /// Criterion's duration formatter (both measurements are durations in ns).
     fmt: WallTime,
 }
@@ -40,13 +64,13 @@ impl Measurement for Cpu {
     type Value = Duration;
 
     fn start(&self) -> Self::Intermediate {
-        (thread_cpu_time(), std::time::Instant::now())
+        (self.cpu(), std::time::Instant::now())
     }
     fn end(&self, (cpu, wall): Self::Intermediate) -> Duration {
         if self.wall {
             wall.elapsed()
         } else {
-            thread_cpu_time() - cpu
+            self.cpu() - cpu
         }
     }
     fn add(&self, a: &Duration, b: &Duration) -> Duration {
@@ -63,12 +87,31 @@ impl Measurement for Cpu {
     }
 }
 
-fn config() -> Criterion<Cpu> {
+impl Cpu {
+    fn cpu(&self) -> Duration {
+        if self.process {
+            process_cpu_time()
+        } else {
+            thread_cpu_time()
+        }
+    }
+}
+
+fn measurement(process: bool) -> Criterion<Cpu> {
     let wall = std::env::var_os("NOETHER_BENCH_WALL").is_some_and(|v| v == "1");
     Criterion::default().with_measurement(Cpu {
         wall,
+        process,
         fmt: WallTime,
     })
+}
+
+fn config() -> Criterion<Cpu> {
+    measurement(false)
+}
+
+fn config_process() -> Criterion<Cpu> {
+    measurement(true)
 }
 
 const KEYS: [u8; 8] = [0, 4, 7, 12, 16, 19, 24, 28];
@@ -111,9 +154,71 @@ fn bench(c: &mut Criterion<Cpu>) {
     g.finish();
 }
 
+/// Four gong voices, `threads` 1 against 0 (file doc).
+fn bench_pool(c: &mut Criterion<Cpu>) {
+    let mut g = c.benchmark_group("engine_pool_0.1s_48k");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(4));
+    for threads in [1.0f32, 0.0] {
+        let params = Arc::new(SharedParams::new());
+        Preset::factory_named("gong-40N")
+            .unwrap()
+            .apply(&params)
+            .unwrap();
+        for (id, x) in [
+            (ParamId::Polyphony, 4.0),
+            (ParamId::Modes, 300.0),
+            (ParamId::InPlaneModes, 15.0),
+            (ParamId::Scheme, 3.0), // sav
+            (ParamId::Threads, threads),
+        ] {
+            params.set(id, x).unwrap();
+        }
+        let root = params.get(ParamId::RootKey) as u8;
+        let (mut e, _h) = Engine::new(params.clone());
+        e.activate(48_000.0, 256).unwrap();
+        let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
+        let strike = |e: &mut Engine| {
+            for k in KEYS.iter().take(4) {
+                e.note_on(root - 12 + k, 0.8);
+            }
+        };
+        strike(&mut e);
+        for _ in 0..20 {
+            e.process(&mut l, &mut r);
+        }
+        assert_eq!(e.active_voices(), 4);
+        g.bench_function(
+            BenchmarkId::new("gong300-sav-4voices-threads", threads),
+            |b| {
+                b.iter(|| {
+                    strike(&mut e);
+                    for _ in 0..(4800 / 256) {
+                        e.process(&mut l, &mut r);
+                    }
+                    e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
+                })
+            },
+        );
+        println!(
+            "threads {threads}: {} participants, {} jobs on workers, {} late jobs",
+            e.threads_used(),
+            e.worker_jobs(),
+            e.late_jobs()
+        );
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = config();
     targets = bench
 }
-criterion_main!(benches);
+criterion_group! {
+    name = pool;
+    config = config_process();
+    targets = bench_pool
+}
+criterion_main!(benches, pool);

@@ -221,6 +221,10 @@ fn render(stem: &str, preset: &Preset, o: &Options) -> Result<Summary, String> {
         }
     }
     let worker_builds = handle.banks_built();
+    // Offline: wait for the voice pool's workers as long as it takes (a late job would leave
+    // a voice's chunk out and make renders differ between runs; one note uses one voice, so
+    // the pool is idle here anyway).
+    engine.set_job_wait(Some(Duration::from_secs(10)));
     // Exactly one silent block before the note on both paths (the editor path needs it for
     // the bank swap), so that they start from the same resampler phase and frame count.
     if silent_blocks == 0 {

@@ -24,6 +24,7 @@ use super::report::RenderReport;
 use super::scene::render_scene;
 use crate::error::Error;
 use crate::scene::Scene;
+use rayon::prelude::*;
 use rustfft::{num_complex::Complex, FftPlanner};
 use serde::Serialize;
 
@@ -193,8 +194,9 @@ pub fn compare(
 
 /// Renders `reference` and every variant and compares each with the reference; `vary` names
 /// the setting and `reference_description` says how the reference was made (both go into the
-/// table). All scenes must share the output rate and duration. `log` receives one line per
-/// finished render.
+/// table). All scenes must share the output rate and duration. The renders run in parallel on
+/// the cores (each render's `wall_seconds` is then measured beside the others); the rows keep
+/// the variants' order. `log` receives one line per render, in that order, once all are done.
 pub fn study(
     vary: &str,
     variants: &[Variant],
@@ -212,14 +214,25 @@ pub fn study(
             });
         }
     }
-    let (ref_out, ref_report) = render_scene(reference, |_| {})?;
+    // The renders are independent: all of them at once on the cores (rayon), the results
+    // kept in the variants' order.
+    let (reference_render, renders) = rayon::join(
+        || render_scene(reference, |_| {}),
+        || {
+            variants
+                .par_iter()
+                .map(|v| render_scene(&v.scene, |_| {}))
+                .collect::<Vec<_>>()
+        },
+    );
+    let (ref_out, ref_report) = reference_render?;
     log(&format!(
         "reference ({reference_description}): {:.2} s wall",
         ref_report.wall_seconds
     ));
     let mut rows = Vec::new();
-    for v in variants {
-        let (r, report) = render_scene(&v.scene, |_| {})?;
+    for (v, render) in variants.iter().zip(renders) {
+        let (r, report) = render?;
         let row = compare(v, &r, &report, &ref_out, out_rate);
         log(&format!(
             "{} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, partials {} cents, balance error {:.2e}",

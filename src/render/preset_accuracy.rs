@@ -7,14 +7,17 @@
 //! largest energy). The linear-partial error in cents is not available through the engine
 //! (`partial_cents` is `None`): a preset's note retunes its modes per key.
 //!
-//! Threads: runs on the calling thread (CLI); the engine is started and its bank awaited by
-//! [`super::preset_engine::start_engine`] (as `noether play` does), and no rebuild is
-//! requested during a render.
+//! Threads: [`render_preset`] runs on the calling thread; the engine is started and its bank
+//! awaited by [`super::preset_engine::start_engine`] (as `noether play` does), no rebuild is
+//! requested during a render, and the engine's voice pool is not used (`threads = 1`: a
+//! one-voice render gives it nothing to share). [`preset_study`] runs its renders on rayon's
+//! threads.
 
 use super::accuracy::{log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy};
 use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
+use rayon::prelude::*;
 
 /// Host rate of preset renders (Hz).
 pub const PRESET_HOST_RATE: f64 = 48_000.0;
@@ -82,7 +85,9 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
         ..
     } = start_engine(
         preset,
-        &[(ParamId::Polyphony, 1.0)],
+        // The audio thread alone: the studies run their renders in parallel already, and a
+        // one-voice bank gives the voice pool nothing to share.
+        &[(ParamId::Polyphony, 1.0), (ParamId::Threads, 1.0)],
         PRESET_HOST_RATE,
         PRESET_BLOCK,
         BANK_TIMEOUT,
@@ -145,7 +150,8 @@ pub struct PresetVariant {
 }
 
 /// Renders the reference and every variant for `seconds` and compares each with the reference
-/// (see the module docs); `log` receives one line per finished render.
+/// (see the module docs). The renders run in parallel on the cores; the rows keep the
+/// variants' order, and `log` receives one line per render, in that order, once all are done.
 pub fn preset_study(
     name: &str,
     vary: &str,
@@ -155,15 +161,25 @@ pub fn preset_study(
     seconds: f64,
     mut log: impl FnMut(&str),
 ) -> Result<AccuracyStudy, ParamError> {
-    let r = render_preset(reference, seconds)?;
+    // Independent renders: all at once on the cores, results kept in the variants' order.
+    let (reference_render, renders) = rayon::join(
+        || render_preset(reference, seconds),
+        || {
+            variants
+                .par_iter()
+                .map(|v| render_preset(&v.preset, seconds))
+                .collect::<Vec<_>>()
+        },
+    );
+    let r = reference_render?;
     log(&format!(
         "reference ({reference_description}): {:.2} s wall",
         r.wall_seconds
     ));
     let n = (super::accuracy::L2_SECONDS * PRESET_HOST_RATE).round() as usize;
     let mut rows = Vec::new();
-    for v in variants {
-        let x = render_preset(&v.preset, seconds)?;
+    for (v, render) in variants.iter().zip(renders) {
+        let x = render?;
         let row = AccuracyRow {
             setting: v.setting.clone(),
             value: v.value,

@@ -86,7 +86,7 @@ pub struct Case {
     /// detected divergence is reported as such rather than as a failure.
     pub may_diverge: bool,
     /// Builds and runs the case: `Err` is a construction refusal.
-    pub run: Box<dyn FnOnce() -> Result<RunResult, ParamError>>,
+    pub run: Box<dyn FnOnce() -> Result<RunResult, ParamError> + Send>,
 }
 
 impl Case {
@@ -95,7 +95,7 @@ impl Case {
         family: impl Into<String>,
         label: impl Into<String>,
         may_refuse: bool,
-        run: impl FnOnce() -> Result<RunResult, ParamError> + 'static,
+        run: impl FnOnce() -> Result<RunResult, ParamError> + Send + 'static,
     ) -> Self {
         Self {
             family: family.into(),

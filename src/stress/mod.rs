@@ -20,7 +20,8 @@
 //! simply supported, each [`crate::models::plate::PlateScheme`]) and [`string`] (stiff string,
 //! every obstacle kind touching, far from and penetrating the string at rest).
 //!
-//! Runs on the calling thread (a test or the CLI); nothing here is real-time code.
+//! Runs on the calling thread (a test or the CLI), the cases on rayon's threads; nothing here
+//! is real-time code.
 
 mod case;
 pub mod oscillators;
@@ -31,7 +32,9 @@ pub use case::{
     check_finite_outputs, BalanceMeter, Case, Density, Outcome, RunResult, Status, ENERGY_TOLERANCE,
 };
 
+use rayon::prelude::*;
 use std::fmt::Write as _;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// All cases of every family at the given density.
 pub fn all_cases(density: Density) -> Vec<Case> {
@@ -156,16 +159,21 @@ impl Summary {
     }
 }
 
-/// Runs every case, calling `progress(done, total)` after each, and summarises.
-pub fn run(cases: Vec<Case>, mut progress: impl FnMut(usize, usize)) -> (Vec<Outcome>, Summary) {
+/// Runs every case, in parallel on the cores (rayon), calling `progress(done, total)` after
+/// each (from the thread that ran it), and summarises; the outcomes keep the cases' order.
+pub fn run(cases: Vec<Case>, progress: impl Fn(usize, usize) + Sync) -> (Vec<Outcome>, Summary) {
     let total = cases.len();
-    let mut outcomes = Vec::with_capacity(total);
+    let done = AtomicUsize::new(0);
     // A panicking case also prints its message through the panic hook (left as it is: the
     // hook is process-global and tests run in parallel); the outcome records it.
-    for (i, c) in cases.into_iter().enumerate() {
-        outcomes.push(c.execute());
-        progress(i + 1, total);
-    }
+    let outcomes: Vec<Outcome> = cases
+        .into_par_iter()
+        .map(|c| {
+            let o = c.execute();
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+            o
+        })
+        .collect();
     let summary = Summary::of(&outcomes);
     (outcomes, summary)
 }

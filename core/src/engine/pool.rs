@@ -313,19 +313,11 @@ impl Pool {
             }
         }
         lanes.claim(0);
-        // Bounded wait for the jobs the workers claimed: spin, then yield, until `wait`.
+        // Bounded wait for the jobs the workers claimed: spin (no system call; a yield could
+        // give the core away for a whole time slice on a loaded machine) until `wait`.
         let start = Instant::now();
-        let mut spins = 0u32;
-        while lanes.busy_among(queued) {
-            if spins < 256 {
-                std::hint::spin_loop();
-                spins += 1;
-                continue;
-            }
-            if start.elapsed() >= wait {
-                break;
-            }
-            std::thread::yield_now();
+        while lanes.busy_among(queued) && start.elapsed() < wait {
+            std::hint::spin_loop();
         }
         s.table.store(std::ptr::null_mut(), Ordering::SeqCst);
     }

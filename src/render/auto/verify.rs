@@ -5,7 +5,7 @@
 //! kept and the report says so. Every candidate tried is reported with its measured errors and
 //! wall time.
 //!
-//! Runs on the CLI thread (allocates, renders).
+//! Runs on the CLI thread, its renders on rayon's threads (allocates, renders).
 
 use super::plan::plan;
 use super::report::{AutoReport, CandidateResult};
@@ -15,6 +15,7 @@ use crate::render::accuracy::{log_spectral_distance, relative_l2, L2_SECONDS};
 use crate::render::offline::Rendered;
 use crate::render::scene::render_scene;
 use crate::scene::{Quality, QualityMode, Scene};
+use rayon::prelude::*;
 use std::time::Instant;
 
 /// Worst-pickup (log-spectral distance in dB, relative L2 over the first 50 ms) of `r` against
@@ -46,7 +47,9 @@ fn build_seconds(report: &crate::render::report::RenderReport) -> f64 {
 
 /// Selects the model of `scene` (a plate or string scene; its `[quality]` table gives the tolerance, the
 /// default table with `mode = "auto"` when it has none): returns the report and the reduced
-/// scene (full duration, no `[quality]` table) to render. `log` receives one line per render.
+/// scene (full duration, no `[quality]` table) to render. The excerpts render in parallel
+/// windows (one render per rayon thread; each render's wall time is measured beside the
+/// others); the choice is the sequential search's. `log` receives one line per render read.
 pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, Scene), Error> {
     let start = Instant::now();
     let q = scene.quality.unwrap_or(Quality {
@@ -62,7 +65,21 @@ pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, S
         s.output.seconds = excerpt;
         Ok(s)
     };
-    let (full_r, full_rep) = render_scene(&short(&plan.full)?, |_| {})?;
+    // Renders in windows as wide as rayon's thread count, in parallel, kept in ladder order:
+    // the first window holds the full model and the cheapest candidates; the first candidate
+    // within tolerance ends the search (the candidates after it in its window are dropped
+    // unread, so the result is the sequential search's).
+    let width = rayon::current_num_threads().max(2);
+    let sizes: Vec<&ModelSize> = std::iter::once(&plan.full)
+        .chain(plan.candidates.iter().map(|c| &c.size))
+        .collect();
+    let mut renders = sizes.chunks(width).flat_map(|window| {
+        window
+            .par_iter()
+            .map(|size| render_scene(&short(size)?, |_| {}))
+            .collect::<Vec<Result<_, Error>>>()
+    });
+    let (full_r, full_rep) = renders.next().expect("the full model's render")?;
     if full_rep.nan_count > 0 {
         return Err(Error::AutoDiverged {
             excerpt_seconds: excerpt,
@@ -76,8 +93,8 @@ pub fn select(scene: &Scene, mut log: impl FnMut(&str)) -> Result<(AutoReport, S
     ));
     let mut tried = Vec::new();
     let mut chosen: Option<usize> = None;
-    for c in &plan.candidates {
-        let (r, rep) = render_scene(&short(&c.size)?, |_| {})?;
+    for (c, render) in plan.candidates.iter().zip(renders) {
+        let (r, rep) = render?;
         let (lsd, l2) = distance(&r, &full_r, rate);
         let passed =
             rep.nan_count == 0 && lsd <= q.tolerance_db && q.l2_tolerance.is_none_or(|t| l2 <= t);
