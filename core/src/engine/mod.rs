@@ -51,6 +51,17 @@
 //! [`crate::models::string::NEWTON_CAP`] Newton iterations per contact node, after which the
 //! step completes with the capped iterate and the event is counted in the telemetry).
 //!
+//! The voices of a chunk run in parallel on the voice pool (`engine/pool.rs`): `activate` starts
+//! `available_parallelism() - 1` worker threads, the `threads` parameter ([`ParamId::Threads`],
+//! read per chunk; 0 = every core, 1 = the audio thread alone) sets how many threads share a
+//! chunk. The audio thread hands the jobs over lock-free (an atomic state per voice), runs jobs
+//! itself, and waits at most the chunk's duration ([`Engine::set_job_wait`]) for the jobs a
+//! worker holds; a job still running then is late: that voice's chunk is left out of the mix
+//! and counted. The mix, the divergence and silence checks and the resampler stay on the audio
+//! thread, in voice order, so the output does not depend on the number of threads. Workers
+//! spin briefly, then park; `deactivate` and drop join them. No allocation in their job loop
+//! either (checked by `tests/engine/engine_threads.rs`).
+//!
 //! Model builds (modal bases and coupling tensors through the on-disk cache, string grids and
 //! obstacles, the voice pool) run on the worker thread started by `activate`: it polls the
 //! parameters whose [`ParamInfo::rebuild`] flag is set, debounces 30 ms, builds a bank and

@@ -106,9 +106,19 @@ impl EditorApp {
                 self.load_preset(i, setter);
             }
             ui.separator();
-            plots::cpu_bar(ui, self.telemetry.cpu_load, 130.0);
+            // The load of every thread working on the audio, as a fraction of the threads
+            // sharing the voices (1: all of them busy all the time).
+            let t = &self.telemetry;
+            plots::cpu_bar(ui, t.cpu_load / f32::from(t.threads.max(1)), 130.0);
             ui.label(
-                RichText::new(format!("peak {:.0} %", 100.0 * self.telemetry.cpu_peak)).small(),
+                RichText::new(format!(
+                    "{:.2} cores on {} threads · peak {:.0} % · {} late",
+                    t.cpu_load,
+                    t.threads,
+                    100.0 * t.cpu_peak,
+                    t.late_jobs
+                ))
+                .small(),
             );
             ui.separator();
             if self.telemetry.rebuilding {
