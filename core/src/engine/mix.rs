@@ -111,6 +111,7 @@ pub(crate) fn run_bank(
         b.resampler.advance_silent(left.len(), m);
         left.fill(0.0);
         right.fill(0.0);
+        record_sounding(base, lanes, n);
         return lanes.any_busy();
     }
     match share.pool {
@@ -152,5 +153,17 @@ pub(crate) fn run_bank(
             }
         }
     }
+    record_sounding(base, lanes, n);
     hold
+}
+
+/// Records in the lanes which voices sound (a voice whose job still runs keeps its record:
+/// it was sounding when queued).
+fn record_sounding(base: *mut Voice, lanes: &Lanes, n: usize) {
+    for i in 0..n {
+        // SAFETY: as in `run_bank`: this chunk's `base`, `i < n`, the reference ends here.
+        if let Some(v) = unsafe { voice_at(base, lanes, i) } {
+            lanes.set_sounding(i, v.active);
+        }
+    }
 }

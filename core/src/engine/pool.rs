@@ -83,6 +83,9 @@ pub(crate) struct Lane {
     gain: AtomicU64,
     /// `Voice::run`'s result: `false` when the voice diverged (its samples are dropped).
     ok: AtomicBool,
+    /// Whether the voice was sounding at the end of the last chunk (audio thread; read-outs
+    /// while the bank is held by a late job, when the voices themselves must not be read).
+    sounding: AtomicBool,
     /// Left and right output (simulation rate, `max_in` samples each).
     buf: UnsafeCell<[Box<[f32]>; 2]>,
 }
@@ -111,6 +114,7 @@ impl Lanes {
                 len: AtomicUsize::new(0),
                 gain: AtomicU64::new(0),
                 ok: AtomicBool::new(true),
+                sounding: AtomicBool::new(false),
                 buf: UnsafeCell::new([vec![0.0; max_in].into(), vec![0.0; max_in].into()]),
             })
             .collect();
@@ -138,6 +142,19 @@ impl Lanes {
         self.lanes.iter().enumerate().any(|(i, l)| {
             mask >> i & 1 == 1 && matches!(l.state.load(Ordering::Acquire), QUEUED | RUNNING)
         })
+    }
+
+    /// Records whether lane `i`'s voice is sounding (audio thread, end of a chunk).
+    pub fn set_sounding(&self, i: usize, sounding: bool) {
+        self.lanes[i].sounding.store(sounding, Ordering::Relaxed);
+    }
+
+    /// Voices sounding at the end of the last chunk, as recorded by [`Self::set_sounding`].
+    pub fn sounding(&self) -> usize {
+        self.lanes
+            .iter()
+            .filter(|l| l.sounding.load(Ordering::Relaxed))
+            .count()
     }
 
     /// Queues voice `voice` (lane `i`, at rest) for `len` simulation samples at output

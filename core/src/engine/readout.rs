@@ -87,26 +87,31 @@ impl Engine {
         self.bank.as_deref().or(self.held.as_deref())
     }
 
-    /// Sounding voices (0 while a late voice job holds the bank, for a chunk or so).
+    /// Sounding voices (while a late voice job holds the bank: those sounding at the end of
+    /// the last chunk).
     pub fn active_voices(&self) -> usize {
-        self.bank
-            .as_ref()
-            .map_or(0, |b| b.voices.iter().filter(|v| v.active).count())
+        match (&self.bank, &self.held) {
+            (Some(b), _) => b.voices.iter().filter(|v| v.active).count(),
+            (None, Some(h)) => h.lanes.sounding(),
+            (None, None) => 0,
+        }
     }
 
-    /// Energy terms (J) of voice `slot` if it is sounding. O(N) for strings.
+    /// Energy terms (J) of voice `slot` if it is sounding (`None` while a late voice job holds
+    /// the bank). O(N) for strings.
     pub fn voice_energy(&self, slot: usize) -> Option<EnergyTerms> {
         let v = self.bank.as_ref()?.voices.get(slot)?;
         v.active.then(|| v.energy_terms())
     }
 
-    /// What voice `slot` simulates for its note, if it is sounding. O(N_Φ).
+    /// What voice `slot` simulates for its note, if it is sounding (`None` while a late voice
+    /// job holds the bank). O(N_Φ).
     pub fn voice_model(&self, slot: usize) -> Option<VoiceModelInfo> {
         let v = self.bank.as_ref()?.voices.get(slot)?;
         v.active.then(|| v.model_info())
     }
 
-    /// Key of voice `slot` if it is sounding.
+    /// Key of voice `slot` if it is sounding (`None` while a late voice job holds the bank).
     pub fn voice_key(&self, slot: usize) -> Option<u8> {
         let v = self.bank.as_ref()?.voices.get(slot)?;
         v.active.then_some(v.key)
