@@ -91,6 +91,9 @@ pub fn start_engine(
         params.set(id, v)?;
     }
     let (mut engine, handle) = Engine::new(params.clone());
+    // Offline: the audio thread waits for the voice pool's workers as long as they take (10 s
+    // bound), so no voice's chunk is ever left out as late and renders repeat bit for bit.
+    engine.set_job_wait(Some(Duration::from_secs(10)));
     let start = Instant::now();
     engine.activate(host_rate, max_block)?;
     wait_for_bank(&mut engine, &handle, max_block, timeout)?;
