@@ -9,4 +9,5 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 mod cascade;
 mod engine;
 mod engine_alloc;
+mod string_presets;
 mod tiers;
