@@ -28,8 +28,8 @@ pub const CHUNK: usize = 64;
 /// gong-40N peaks at 0.58, gong-80N at 0.87, rect-plate at 0.33 full scale).
 pub const PLATE_VELOCITY_REF: f64 = 1.0;
 
-/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] (the sitar preset at
-/// key 60, velocity 1 peaks at 1.88 m/s: 0.47 full scale).
+/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] (the buzzing sitar preset
+/// at key 60, velocity 1 peaks at 3.9 m/s: 0.97 full scale, 0.49 after its -6 dB gain).
 pub const STRING_VELOCITY_REF: f64 = 4.0;
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
