@@ -10,4 +10,5 @@ mod cascade;
 mod engine;
 mod engine_alloc;
 mod engine_threads;
+mod string_presets;
 mod tiers;

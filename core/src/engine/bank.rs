@@ -29,8 +29,8 @@ pub const CHUNK: usize = 64;
 /// gong-40N peaks at 0.58, gong-80N at 0.87, rect-plate at 0.33 full scale).
 pub const PLATE_VELOCITY_REF: f64 = 1.0;
 
-/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] (the sitar preset at
-/// key 60, velocity 1 peaks at 1.88 m/s: 0.47 full scale).
+/// Output normalisation of strings (m/s), as [`PLATE_VELOCITY_REF`] (the buzzing sitar preset
+/// at key 60, velocity 1 peaks at 3.9 m/s: 0.97 full scale, 0.49 after its -6 dB gain).
 pub const STRING_VELOCITY_REF: f64 = 4.0;
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
@@ -89,24 +89,45 @@ impl Bank {
             // The instrument's string as a specification, validated and built as a scene's
             // `[string]` table is (one vocabulary, one table of ranges).
             let losses = ValetteLosses::default();
-            let obstacle = if kind == ModelKind::Sitar {
-                StringObstacle::Sitar {
+            // The contact law `f = K [η]_+^α` is a force per unit length. The sitar's curved
+            // bridge spans several nodes, so its force converges as the grid refines. The
+            // tanpura's point bridge sits on the nodes within `POINT_WIDTH` of its position (at
+            // least the nearest one): a force density on those nodes alone would make the
+            // bridge's total stiffness `K n Δx` follow the mode count. It is scaled to the
+            // stiffness of a contact patch `POINT_WIDTH` long, `K · POINT_WIDTH`, at every grid:
+            // 1 mm is the lecture's tanpura grid spacing (1 m / 1008), whose one-node contact
+            // is that patch, so on that grid the scale is 1.
+            const POINT_WIDTH: f64 = 1e-3;
+            let k_contact = v.get(ParamId::ContactStiffness) as f64;
+            let (obstacle, k_contact) = if kind == ModelKind::Sitar {
+                let bridge = StringObstacle::Sitar {
                     position: 0.0,
                     curvature: v.get(ParamId::BridgeCurvature) as f64,
                     height: 0.0,
                     extent: v.get(ParamId::BridgePosition) as f64,
-                }
+                };
+                (bridge, k_contact)
             } else {
-                StringObstacle::Point {
-                    position: v.get(ParamId::BridgePosition) as f64,
+                let position = v.get(ParamId::BridgePosition) as f64;
+                let dx = length / (modes + 1) as f64;
+                let on_patch = (1..=modes)
+                    .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
+                    .count()
+                    .max(1);
+                let bridge = StringObstacle::Point {
+                    position,
                     height: 0.0,
-                    width: 0.0,
-                }
+                    width: POINT_WIDTH,
+                };
+                (bridge, k_contact * POINT_WIDTH / (on_patch as f64 * dx))
             };
+            // Pickups read the modal sum, exact at any grid (linear interpolation between
+            // nodes would low-pass the bridge's high partials by an amount that depends on the
+            // mode count).
             let pickup = |id: ParamId| StringOutput::Pickup {
                 position: v.get(id) as f64 * length,
                 quantity: StringQuantity::Velocity,
-                readout: StringReadout::Grid,
+                readout: StringReadout::Modal,
             };
             let spec = StringSpec {
                 length,
@@ -120,7 +141,7 @@ impl Bank {
                 losses: losses.into(),
                 obstacle,
                 contact: StringContact {
-                    stiffness: v.get(ParamId::ContactStiffness) as f64,
+                    stiffness: k_contact,
                     exponent: v.get(ParamId::ContactAlpha) as f64,
                 },
                 contact_scheme: "newton".into(),
