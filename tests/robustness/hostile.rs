@@ -18,8 +18,8 @@
 
 use noether::models::plate::voice::PlateVoice;
 use noether::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
-    Stiffness, StringConfig, StringParams, TrianglePluck,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
+    StiffString, Stiffness, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use noether::scene::{Scene, SceneError};
@@ -395,5 +395,71 @@ proptest! {
                 }
             }
         }
+    }
+
+    /// Valid but extreme strings (the arbitrary floats above almost never make a buildable
+    /// string): sizes, tensions and rates over decades, every obstacle kind, contact laws up to
+    /// K = 1e14 and α = 5, both contact schemes, lossless or damped, plucks from 1 nm to 1 cm.
+    /// Each is built and run 256 steps through [`check_string_run`].
+    #[test]
+    fn extreme_valid_strings_step_finitely_and_conservatively(
+        length in 0.05f64..5.0,
+        tension in 1.0f64..1e4,
+        density in 1e-5f64..1e-1,
+        inharmonicity in prop_oneof![Just(0.0), 1e-6f64..1e-2],
+        intervals in 2usize..300,
+        fs in prop_oneof![Just(8e3), Just(48e3), Just(1e6), 8e3f64..4e6],
+        obstacle_kind in 0..5usize,
+        height in -1e-3f64..1e-3,
+        stiffness_exp in 0.0f64..14.0,
+        exponent in 1.0f64..5.0,
+        quadratised in any::<bool>(),
+        damped in any::<bool>(),
+        at in 0.05f64..0.95,
+        amplitude_exp in -9.0f64..-2.0,
+    ) {
+        let params = StringParams {
+            length,
+            tension,
+            linear_density: density,
+            stiffness: Stiffness::Inharmonicity(inharmonicity),
+            diameter: 0.43e-3,
+            intervals,
+            sample_rate: fs,
+        };
+        let obstacle = match obstacle_kind {
+            0 => Obstacle::None,
+            1 => Obstacle::Sitar(SitarBridge {
+                position: 0.0,
+                curvature: 0.2,
+                height,
+                // At least one grid node, inside the string.
+                extent: (0.3 * length).max(1.5 * length / intervals as f64).min(0.9 * length),
+            }),
+            2 => Obstacle::Point { position: at * length, height, width: 0.0 },
+            3 => Obstacle::Fretboard { distance: height.abs() },
+            _ => Obstacle::Points(vec![(0.25 * length, height), (0.75 * length, -height)]),
+        };
+        let config = StringConfig {
+            params,
+            losses: if damped { Losses::Valette(ValetteLosses::default()) } else { Losses::None },
+            obstacle,
+            contact: ContactLaw { stiffness: 10f64.powf(stiffness_exp), exponent },
+            outputs: vec![
+                OutputChannel::Pickup {
+                    position: 0.37 * length,
+                    quantity: Quantity::Velocity,
+                    readout: Readout::Modal,
+                },
+                OutputChannel::ObstacleForce,
+            ],
+        };
+        let mut s = StiffString::new(&config).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        if quadratised {
+            s.set_contact_scheme(ContactScheme::Quadratised);
+        }
+        s.pluck(&TrianglePluck { position: at * length, amplitude: 10f64.powf(amplitude_exp) })
+            .map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        check_string_run(&mut s, 256)?;
     }
 }
