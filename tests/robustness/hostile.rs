@@ -11,7 +11,9 @@
 //!
 //! Model fuzz: the stiff string built from arbitrary floats (NaN, infinities, negatives,
 //! zeros, huge) and grid sizes: a clear `ParamError` or a model that steps with finite outputs,
-//! a conserved energy (lossless) and an energy that never exceeds the initial one.
+//! a conserved energy (lossless) and an energy that never exceeds the initial one. Those
+//! arbitrary floats rarely make a buildable string, so a third fuzz draws valid but extreme
+//! strings (sizes, rates and contact laws over decades) and runs each through the same checks.
 //!
 //! Bounded: `PROPTEST_CASES` (default 256 scene cases, 256 string cases) keeps it to a few
 //! seconds at opt-level 3.
