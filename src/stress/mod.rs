@@ -5,7 +5,8 @@
 //! `catch_unwind`. A case ends in one of four ways:
 //! - **ok**: every output and energy value finite; for energy-conserving schemes the power
 //!   balance `total + dissipated - work` stays constant to [`ENERGY_TOLERANCE`] relative to the
-//!   largest energy seen;
+//!   largest energy seen (or the run's own stated tolerance: tighter for the oscillators, looser
+//!   for an oversampled plate);
 //! - **refused**: construction returned a [`ParamError`](crate::error::ParamError) naming
 //!   field, value and allowed range for a setting the case declares conditionally unstable
 //!   (for example θ = 1 above its stability limit); this is the required behaviour, not a

@@ -155,7 +155,7 @@ fn run_case(c: PlateCase, steps: usize) -> Result<RunResult, ParamError> {
         steps: done as u64,
         failure: None,
         diverged: false,
-        tolerance: Some(rounding),
+        tolerance: Some(rounding.max(super::ENERGY_TOLERANCE)),
     })
 }
 

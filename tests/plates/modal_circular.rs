@@ -2,6 +2,7 @@
 //!
 //! Reference values: Leissa, "Vibration of Plates", NASA SP-160, 1969, Table 2.1 (clamped) and
 //! Table 2.3 (free, ν = 0.33); 30-digit mpmath 1.3.0 roots of the same characteristic equations
+//! (`scripts/circular-plate-roots.py` prints them)
 //! (Bessel functions and root finder independent of the crate's). Direct quadratures below use
 //! the crate's Gauss-Legendre rule in r (itself tested against monomials) and a uniform
 //! trapezoid rule in θ, exact for the trigonometric polynomials involved; they do not use the

@@ -2,7 +2,7 @@
 //! parameters (see `noether::stress` for the grids). Each case: no NaN/Inf, no panic (caught
 //! and counted), conservative schemes close their power balance to
 //! `noether::stress::ENERGY_TOLERANCE` (1e-8 relative to the largest energy of the run, see its
-//! doc for why), and conditionally stable settings are refused at construction with a
+//! doc for why; the oscillators to a tighter per-family `c ε n`, see `noether::stress::oscillators`), and conditionally stable settings are refused at construction with a
 //! `ParamError` naming field, value and range (a refusal where the case does not expect one is
 //! a failure). Prints the summary table; fails on any failure. The longer, denser sweep is
 //! `noether stress`.

@@ -5,19 +5,23 @@
 //! values that reach deeper validation), line deletions and truncation, then parsed. Never a
 //! panic; every error is either a parse error with a location (`line N, column M`, or the
 //! dotted path of the field in backticks) or a range error naming field, value and allowed
-//! range. A scene that parses and is small enough to build quickly is built into a voice and run
-//! for a few steps: its outputs must be finite.
+//! range. A scene that parses and is small enough to build quickly is built (a plate voice or a
+//! string) and run for a few steps: its outputs must be finite, and a string's power balance
+//! must hold (see [`check_string_run`]). The bases are plate scenes and the sitar string scene.
 //!
 //! Model fuzz: the stiff string built from arbitrary floats (NaN, infinities, negatives,
-//! zeros, huge) and grid sizes: a clear `ParamError` or a model that steps.
+//! zeros, huge) and grid sizes: a clear `ParamError` or a model that steps with finite outputs,
+//! a conserved energy (lossless) and an energy that never exceeds the initial one. Those
+//! arbitrary floats rarely make a buildable string, so a third fuzz draws valid but extreme
+//! strings (sizes, rates and contact laws over decades) and runs each through the same checks.
 //!
 //! Bounded: `PROPTEST_CASES` (default 256 scene cases, 256 string cases) keeps it to a few
 //! seconds at opt-level 3.
 
 use noether::models::plate::voice::PlateVoice;
 use noether::models::string::{
-    ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge, StiffString,
-    Stiffness, StringConfig, StringParams, TrianglePluck,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
+    StiffString, Stiffness, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use noether::scene::{Scene, SceneError};
@@ -27,7 +31,19 @@ const BASES: &[&str] = &[
     include_str!("../../assets/scenes/gong.toml"),
     include_str!("../../assets/scenes/seed-rect-energy.toml"),
     include_str!("../../assets/scenes/seed-gong-40N.toml"),
+    include_str!("../../assets/scenes/seed-sitar.toml"),
 ];
+
+/// Small-size overrides applied first to each base (the random overrides may replace them), so
+/// that scenes surviving the mutations build and step quickly: a plate with 12/6 modes, or the
+/// sitar with 63 modes at 96 kHz (top partial 6.4 kHz, below Nyquist).
+fn small(base: usize) -> [String; 2] {
+    if BASES[base].contains("[string]") {
+        ["string.modes=63".into(), "string.sim_rate=96000".into()]
+    } else {
+        ["plate.n_phi=12".into(), "plate.n_psi=6".into()]
+    }
+}
 
 /// Field paths the overrides aim at: every scene field, plus unknown ones.
 const PATHS: &[&str] = &[
@@ -76,6 +92,34 @@ const PATHS: &[&str] = &[
     "output.bogus",
     "plate.material.bogus",
     "plate.excitation.at.bogus",
+    "string",
+    "string.length",
+    "string.diameter",
+    "string.tension",
+    "string.linear_density",
+    "string.inharmonicity",
+    "string.bending_stiffness",
+    "string.modes",
+    "string.sim_rate",
+    "string.losses",
+    "string.losses.law",
+    "string.obstacle",
+    "string.obstacle.kind",
+    "string.obstacle.position",
+    "string.obstacle.curvature",
+    "string.obstacle.height",
+    "string.obstacle.extent",
+    "string.contact",
+    "string.contact.stiffness",
+    "string.contact.exponent",
+    "string.contact_scheme",
+    "string.excitation",
+    "string.excitation.kind",
+    "string.excitation.position",
+    "string.excitation.amplitude",
+    "string.outputs",
+    "string.snapshots",
+    "string.bogus",
 ];
 
 /// Values, raw as on the command line: hostile ones and valid ones that get deeper.
@@ -131,7 +175,63 @@ const VALUES: &[&str] = &[
     "{ kind = \"initial\", mode = 1, displacement = 1.0, velocity = 1e4 }",
     "{ kind = \"impulse\", at = { r = 0.0 }, impulse = 1000.0 }",
     "{ kind = \"strike\", at = { r = 1.0 }, duration = 1e-5, peak_force = 1e6 }",
+    "valette",
+    "quadratised",
+    "newton",
+    "pluck",
+    "sitar",
+    "fretboard",
+    "1e13",
+    "1e18",
+    "1.5",
+    "{ law = \"none\" }",
+    "{ kind = \"point\", position = 0.5, height = 1e-4, width = 0.0 }",
+    "{ kind = \"fretboard\", distance = 1e-4 }",
+    "{ stiffness = 1e16, exponent = 10 }",
+    "{ kind = \"pluck\", position = 0.5, amplitude = 1e-2 }",
+    "[{ kind = \"pickup\", position = 0.5, quantity = \"displacement\" }]",
 ];
+
+/// Power-balance tolerance of the fuzzed strings, relative to the largest energy of the run: the
+/// stress sweep's bound (`noether::stress::ENERGY_TOLERANCE`, whose measured worst case is a
+/// penetrating bridge at K = 1e16; the fuzz's contact laws stay within that range). A broken
+/// balance (a wrong contact force term, a missing loss) shows at 1e-6 or above.
+const BALANCE_TOLERANCE: f64 = noether::stress::ENERGY_TOLERANCE;
+
+/// Runs a built string `steps` steps, one per `process` call: every output finite; the power
+/// balance `H + dissipated - work` constant to [`BALANCE_TOLERANCE`] of the largest `H`; and,
+/// when no external force works on it (`work = 0`: a pluck, no strike), the energy bounded by its
+/// initial value, `H_n <= H_0 (1 + tol)` (the schemes never create energy).
+fn check_string_run(s: &mut StiffString, steps: usize) -> Result<(), TestCaseError> {
+    let mut out = vec![vec![0.0; 1]; s.channels()];
+    let first = s.energy();
+    let mut max = first.total();
+    let mut drift = 0.0f64;
+    for _ in 0..steps {
+        s.process(&mut out, 1);
+        prop_assert!(
+            out.iter().all(|c| c[0].is_finite()),
+            "non-finite output {out:?}"
+        );
+        let e = s.energy();
+        prop_assert!(e.total().is_finite() && e.balance().is_finite(), "{e:?}");
+        max = max.max(e.total());
+        drift = drift.max((e.balance() - first.balance()).abs());
+        if e.work == 0.0 {
+            prop_assert!(
+                e.total() <= first.total() * (1.0 + BALANCE_TOLERANCE),
+                "energy grew: {} > {}",
+                e.total(),
+                first.total()
+            );
+        }
+    }
+    prop_assert!(
+        drift <= BALANCE_TOLERANCE * max,
+        "power balance drift {drift:e} of max energy {max:e}"
+    );
+    Ok(())
+}
 
 /// Whether a scene error says where or what: a TOML location, a field path in backticks, or a
 /// range error with field, value and allowed range.
@@ -151,6 +251,18 @@ fn error_is_clear(e: &SceneError) -> bool {
 /// Builds and runs a parsed scene when it is cheap enough (small mode counts): a clear error or
 /// finite outputs.
 fn build_and_step(scene: &Scene) -> Result<(), TestCaseError> {
+    if let Some(string) = scene.string.as_ref() {
+        if string.modes > 200 {
+            return Ok(());
+        }
+        match noether::render::scene::build_string(string) {
+            Err(e) => prop_assert!(
+                !e.field.is_empty() && !e.value.is_empty() && !e.allowed.is_empty(),
+                "unclear build error: {e:?}"
+            ),
+            Ok(mut s) => check_string_run(&mut s, 64)?,
+        }
+    }
     let Some(plate) = scene.plate.as_ref() else {
         return Ok(());
     };
@@ -178,11 +290,14 @@ fn build_and_step(scene: &Scene) -> Result<(), TestCaseError> {
 #[test]
 fn small_base_scenes_build() {
     noether_testkit::env::test_cache_dir();
-    let o = ["plate.n_phi=12".to_string(), "plate.n_psi=6".to_string()];
-    for base in BASES {
-        let scene = Scene::from_toml(base, "base.toml", &o).unwrap();
+    for (i, base) in BASES.iter().enumerate() {
+        let scene = Scene::from_toml(base, "base.toml", &small(i)).unwrap();
         build_and_step(&scene).unwrap();
-        assert!(PlateVoice::build(scene.plate.as_ref().unwrap()).is_ok());
+        match (&scene.plate, &scene.string) {
+            (Some(p), _) => assert!(PlateVoice::build(p).is_ok()),
+            (None, Some(s)) => assert!(noether::render::scene::build_string(s).is_ok()),
+            (None, None) => panic!("base {i} has no model"),
+        }
     }
 }
 
@@ -219,7 +334,7 @@ proptest! {
         }
         // Small mode counts first (the random overrides may replace them), so that scenes
         // which survive the mutations are cheap enough to build and step.
-        let overrides: Vec<String> = ["plate.n_phi=12".to_string(), "plate.n_psi=6".to_string()]
+        let overrides: Vec<String> = small(base)
             .into_iter()
             .chain(sets.iter().map(|&(p, v)| format!("{}={}", PATHS[p], VALUES[v])))
             .collect();
@@ -278,12 +393,75 @@ proptest! {
                 let pluck = TrianglePluck { position: f[0] * 0.3, amplitude: f[7] * 1e-6 };
                 match s.pluck(&pluck) {
                     Err(e) => prop_assert!(!e.field.is_empty() && !e.allowed.is_empty()),
-                    Ok(()) => {
-                        let mut out = vec![vec![0.0; 16]; s.channels()];
-                        s.process(&mut out, 16);
-                    }
+                    Ok(()) => check_string_run(&mut s, 16)?,
                 }
             }
         }
+    }
+
+    /// Valid but extreme strings (the arbitrary floats above almost never make a buildable
+    /// string): sizes, tensions and rates over decades, every obstacle kind, contact laws up to
+    /// K = 1e14 and α = 5, both contact schemes, lossless or damped, plucks from 1 nm to 1 cm.
+    /// Each is built and run 256 steps through [`check_string_run`].
+    #[test]
+    fn extreme_valid_strings_step_finitely_and_conservatively(
+        length in 0.05f64..5.0,
+        tension in 1.0f64..1e4,
+        density in 1e-5f64..1e-1,
+        inharmonicity in prop_oneof![Just(0.0), 1e-6f64..1e-2],
+        intervals in 2usize..300,
+        fs in prop_oneof![Just(8e3), Just(48e3), Just(1e6), 8e3f64..4e6],
+        obstacle_kind in 0..5usize,
+        height in -1e-3f64..1e-3,
+        stiffness_exp in 0.0f64..14.0,
+        exponent in 1.0f64..5.0,
+        quadratised in any::<bool>(),
+        damped in any::<bool>(),
+        at in 0.05f64..0.95,
+        amplitude_exp in -9.0f64..-2.0,
+    ) {
+        let params = StringParams {
+            length,
+            tension,
+            linear_density: density,
+            stiffness: Stiffness::Inharmonicity(inharmonicity),
+            diameter: 0.43e-3,
+            intervals,
+            sample_rate: fs,
+        };
+        let obstacle = match obstacle_kind {
+            0 => Obstacle::None,
+            1 => Obstacle::Sitar(SitarBridge {
+                position: 0.0,
+                curvature: 0.2,
+                height,
+                // At least one grid node, inside the string.
+                extent: (0.3 * length).max(1.5 * length / intervals as f64).min(0.9 * length),
+            }),
+            2 => Obstacle::Point { position: at * length, height, width: 0.0 },
+            3 => Obstacle::Fretboard { distance: height.abs() },
+            _ => Obstacle::Points(vec![(0.25 * length, height), (0.75 * length, -height)]),
+        };
+        let config = StringConfig {
+            params,
+            losses: if damped { Losses::Valette(ValetteLosses::default()) } else { Losses::None },
+            obstacle,
+            contact: ContactLaw { stiffness: 10f64.powf(stiffness_exp), exponent },
+            outputs: vec![
+                OutputChannel::Pickup {
+                    position: 0.37 * length,
+                    quantity: Quantity::Velocity,
+                    readout: Readout::Modal,
+                },
+                OutputChannel::ObstacleForce,
+            ],
+        };
+        let mut s = StiffString::new(&config).map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        if quadratised {
+            s.set_contact_scheme(ContactScheme::Quadratised);
+        }
+        s.pluck(&TrianglePluck { position: at * length, amplitude: 10f64.powf(amplitude_exp) })
+            .map_err(|e| TestCaseError::fail(format!("{e}")))?;
+        check_string_run(&mut s, 256)?;
     }
 }

@@ -7,7 +7,9 @@
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod string_alloc;
+mod string_bounce;
 mod string_model;
+mod string_partials;
 mod string_render;
 mod string_rows;
 mod string_sav;

@@ -211,10 +211,10 @@ fn quadratised_converges_to_newton_as_fs_grows() {
 
 /// Hostile contact laws (K from 1 to 1e18, the scene's range, α from 1 to 10) hit hard (a
 /// 1e4 N strike towards a penetrating point bridge) at 8 kHz and 4 MHz, lossless: every output
-/// finite and `H_q` conserved to 1e-12 of its maximum. The node update is solved for the mean
+/// finite and `H_q` conserved to 1e-13 of its maximum. The node update is solved for the mean
 /// `w = μ_{t·}z` (no cancellation of `b` against `k g z⁻` at stiffness ratios `k g²` up to
-/// ~1e16), so the identity holds to round-off: measured worst case 1.3e-14 (printed); the
-/// direct form `r = (b - k g z⁻)/(1 + k g²/4)` gave 1.5e-7 at K = 1e13, α = 10, 8 kHz.
+/// ~1e16), so the identity holds to round-off: measured worst case 2.1e-14 (K = 1e18, α = 4,
+/// 8 kHz; printed over 2000 steps). Tolerance 1e-13, five times that; the direct form `r = (b - k g z⁻)/(1 + k g²/4)` gave 1.5e-7 at K = 1e13, α = 10, 8 kHz.
 #[test]
 fn hostile_contact_laws_stay_finite_and_conservative() {
     let mut worst = 0.0f64;
@@ -249,7 +249,7 @@ fn hostile_contact_laws_stay_finite_and_conservative() {
                 assert!(r.max.is_finite() && r.balance.is_finite());
                 worst = worst.max(r.balance);
                 assert!(
-                    r.balance < 1e-9,
+                    r.balance < 1e-13,
                     "K={k} alpha={alpha} fs={fs}: {}",
                     r.balance
                 );
@@ -292,7 +292,9 @@ fn scene_field_selects_the_scheme() {
 /// `string.contact_scheme` field): a small sitar (209 modes, 20 ms, four nodes on the bridge)
 /// under each scheme at 96 kHz against Newton at 192 kHz; one row per scheme, its report names
 /// the scheme; the Newton row is the pure rate error, the quadratised row adds the scheme's;
-/// both finite, non-zero and different (the string touched the bridge).
+/// both finite, non-zero and different (the string touched the bridge). Both conserve their
+/// energy to round-off: measured balance errors 7.5e-15 (Newton) and 8.9e-15 (quadratised),
+/// printed; tolerance 5e-14, about five times that.
 #[test]
 fn accuracy_study_varies_the_scheme() {
     use noether::render::accuracy::{study, Variant};
@@ -335,11 +337,11 @@ fn accuracy_study_varies_the_scheme() {
     );
     for r in &st.rows {
         eprintln!(
-            "{}: L2 {:.3e}, LSD {:.3} dB",
-            r.setting, r.l2_50ms, r.lsd_db
+            "{}: L2 {:.3e}, LSD {:.3} dB, balance {:.2e}",
+            r.setting, r.l2_50ms, r.lsd_db, r.energy_balance_error
         );
         assert!(r.l2_50ms.is_finite() && r.l2_50ms > 0.0 && r.lsd_db.is_finite());
-        assert!(r.energy_balance_error < 1e-10);
+        assert!(r.energy_balance_error < 5e-14, "{}", r.energy_balance_error);
     }
     assert_ne!(st.rows[0].l2_50ms, st.rows[1].l2_50ms);
 }

@@ -122,6 +122,15 @@ impl StringParams {
                 "value giving finite modal frequencies",
             ));
         }
+        // The exact scheme evaluates cos(ω_j h) and sin(ω_j h): the phase per step of the top
+        // mode must be finite (a rate of 1e-307 Hz with ω of 1e151 rad/s is not).
+        if !(self.omega(self.modes()) * self.h()).is_finite() {
+            return Err(ParamError::new(
+                "sample_rate",
+                self.sample_rate,
+                "value giving a finite phase step ω_max/fs",
+            ));
+        }
         Ok(())
     }
 
