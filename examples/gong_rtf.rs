@@ -7,12 +7,15 @@
 //! `0.3 N_PHI` (the README's tables). For each size: build (modal data cached on disk), run
 //! 0.1 s past the strike, then time three runs of 0.5 s of simulated sound; prints the median
 //! wall time per step and `RTF = simulated time / wall time` (real time holds when RTF ≥ 1),
-//! then the same from the thread's CPU time (immune to other load on a shared machine).
+//! then the same from the thread's CPU time (immune to other load on a shared machine), and
+//! the thread-CPU time per step divided by the tensor's stored entries (ns per entry).
 //! Output is always 48 kHz (`PlateVoice::process`, resampling included); `FS` is the
 //! simulation rate. stderr: the coupling's block layout, and with `GONG_RTF_KERNEL` set a
 //! thread-CPU comparison of the block and run kernels of the SAV step.
 //! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
-//! callgrind with a few steps).
+//! callgrind with a few steps). `GONG_RTF_SYMMETRY` (`full`, default, or `strike-mirror`) and
+//! `GONG_RTF_STORAGE` (`double`, default, or `single`) set the scene's `plate.symmetry` and
+//! `plate.tensor_storage`.
 
 use std::time::{Duration, Instant};
 
@@ -24,6 +27,7 @@ use noether::scene::Scene;
 
 fn voice(scheme: &str, fs: f64, n_phi: usize, n_psi: usize) -> PlateVoice {
     let symmetry = std::env::var("GONG_RTF_SYMMETRY").unwrap_or_else(|_| "full".into());
+    let storage = std::env::var("GONG_RTF_STORAGE").unwrap_or_else(|_| "double".into());
     let text = format!(
         r#"
 [output]
@@ -38,6 +42,7 @@ n_psi = {n_psi}
 sim_rate = {fs}
 scheme = "{scheme}"
 symmetry = "{symmetry}"
+tensor_storage = "{storage}"
 damping = {{ law = "power", a = 0.005, b = 0.6 }}
 excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
 "#
@@ -102,7 +107,9 @@ fn main() {
     }
     let scheme = &args[0];
     let fs: f64 = args[1].parse().expect("FS: a number (Hz)");
-    println!("scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf\tcpu_us_per_step\trtf_cpu");
+    println!(
+        "scheme\tfs\tn_phi\tn_psi\tus_per_step\trtf\tcpu_us_per_step\trtf_cpu\tcpu_ns_per_entry"
+    );
     for size in &args[2..] {
         let (n_phi, n_psi) = match size.split_once(':') {
             Some((a, b)) => (a.parse().expect("N_PHI"), b.parse().expect("N_PSI")),
@@ -115,10 +122,12 @@ fn main() {
         let t = v.model().coupling();
         let (classes, dense, stored, rest) = t.block_stats();
         eprintln!(
-            "{n_phi}x{n_psi}: {} entries; {classes} mode classes, {dense} dense blocks \
-             ({stored} stored values), {rest} entries in the gathered remainder",
-            t.nnz()
+            "{n_phi}x{n_psi}: {} entries, {} storage; {classes} mode classes, {dense} dense \
+             blocks ({stored} stored values), {rest} entries in the gathered remainder",
+            t.nnz(),
+            t.storage().name()
         );
+        let nnz = t.nnz().max(1) as f64;
         if std::env::var("GONG_RTF_KERNEL").is_ok() {
             let (b, r) = kernel_ab(t);
             eprintln!(
@@ -163,11 +172,12 @@ fn main() {
         let steps = (blocks * block) as f64;
         let (per_step, cpu_step) = (times[1] / steps, cpu[1] / steps);
         println!(
-            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}\t{:.3}\t{:.3}",
+            "{scheme}\t{fs}\t{n_phi}\t{n_psi}\t{:.3}\t{:.3}\t{:.3}\t{:.3}\t{:.3}",
             per_step * 1e6,
             1.0 / (per_step * fs),
             cpu_step * 1e6,
-            1.0 / (cpu_step * fs)
+            1.0 / (cpu_step * fs),
+            cpu_step * 1e9 / nnz
         );
         assert!(
             out.iter().flatten().all(|x| x.is_finite()),

@@ -81,6 +81,7 @@ impl PlateCase {
             symmetry: Default::default(),
             sim_rate: self.fs,
             scheme: self.scheme,
+            tensor_storage: Default::default(),
             damping: self.damping,
             excitation: Excitation::Strike {
                 at,

@@ -2,6 +2,7 @@
 //! value), never a panic. Each case is a (TOML edit, expected fragments of the message) pair
 //! run through one harness.
 
+use noether::models::plate::spec::TensorStorage;
 use noether::scene::{Scene, SceneError};
 
 const GOOD: &str = r#"
@@ -30,7 +31,14 @@ fn parse(text: &str, overrides: &[&str]) -> Result<Scene, SceneError> {
 fn the_reference_scene_parses() {
     let s = parse(GOOD, &[]).unwrap();
     assert_eq!(s.plate.as_ref().unwrap().n_phi, 20);
+    assert_eq!(
+        s.plate.as_ref().unwrap().tensor_storage,
+        TensorStorage::Double,
+        "the default storage"
+    );
     assert_eq!(s.plate.unwrap().effective_pickups().len(), 2);
+    let single = parse(GOOD, &["plate.tensor_storage=\"single\""]).unwrap();
+    assert_eq!(single.plate.unwrap().tensor_storage, TensorStorage::Single);
 }
 
 #[test]
@@ -53,6 +61,10 @@ fn every_bad_input_names_its_field() {
             &["plate.material.poisson", "0.7"],
         ),
         ("plate.scheme=fast", &["fast", "conservative"]),
+        (
+            "plate.tensor_storage=half",
+            &["tensor_storage", "half", "double", "single"],
+        ),
         ("plate.shape=triangle", &["triangle", "circular-free"]),
         ("plate.colour=1", &["colour"]),
         (

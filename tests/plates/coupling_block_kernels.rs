@@ -1,7 +1,8 @@
 //! The block-layout kernels of the linearly implicit plate schemes
 //! (`CouplingTensor::{contract_eta, apply_force, coupling_matrix}_with_scratch`) against the run
 //! kernels they replace and against direct sums over the CSR entries, on the three tensor
-//! families the plate model uses: circular free (full basis), circular mirror basis, rectangle.
+//! families the plate model uses: circular free (full basis), circular mirror basis, rectangle;
+//! each with double storage and with single storage (`f32` row panels of the rounded tensor).
 //!
 //! Tolerance: 1e-13 of the sum of absolute terms of each sum (the kernels evaluate the same
 //! sums in different orders, some with fused multiply-adds; with at most ~10⁴ terms the
@@ -9,7 +10,7 @@
 //! size above 1e-13 of the scale).
 
 use noether::modal::rect::{RectModes, RectSpec};
-use noether::modal::{CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes};
+use noether::modal::{CircularEdge, CircularPlateSpec, CouplingTensor, PlateModes, TensorStorage};
 
 /// Deterministic uniform numbers in `[-0.5, 0.5)` (64-bit LCG).
 fn rnd(seed: &mut u64) -> f64 {
@@ -115,17 +116,28 @@ fn check(t: &CouplingTensor, mut seed: u64) {
     }
 }
 
+/// The tensor with single storage (`f32` row panels; the runs and the direct sums read the
+/// same rounded values from `parts`).
+fn single(t: CouplingTensor) -> CouplingTensor {
+    let s = t.with_storage(TensorStorage::Single).unwrap();
+    assert_eq!(s.storage(), TensorStorage::Single);
+    s
+}
+
 #[test]
 fn circular_full_tensor() {
     check(&circular(false), 1);
+    check(&single(circular(false)), 4);
 }
 
 #[test]
 fn circular_mirror_tensor() {
     check(&circular(true), 2);
+    check(&single(circular(true)), 5);
 }
 
 #[test]
 fn rectangle_tensor() {
     check(&rectangle(), 3);
+    check(&single(rectangle()), 6);
 }

@@ -17,3 +17,4 @@ mod plate_mirror;
 mod plate_render;
 mod plate_sav;
 mod plate_scheme;
+mod plate_single;

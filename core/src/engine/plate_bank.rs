@@ -13,6 +13,7 @@ use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{tier_ladder, Frame, PlateData, PlateVoice, Voice, VoiceModel, HEARD_FRACTION};
 use crate::error::ParamError;
+use crate::modal::TensorStorage;
 use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
@@ -124,14 +125,18 @@ pub(crate) fn plate_voices(
         2 => PlateScheme::StormerVerletExact,
         _ => PlateScheme::SavExact,
     };
-    // One sub-tensor per tier, shared by the voices.
+    // One sub-tensor per tier, shared by the voices, in single storage: the values rounded to
+    // `f32` once and every layout rebuilt from them, so the voice's discrete energy is that of
+    // the rounded tensor and still conserved to `f64` round-off (tests/plates, single storage),
+    // while the kernels stream half the bytes.
+    let single = Arc::new(basis.coupling.with_storage(TensorStorage::Single)?);
     let couplings = tiers
         .iter()
         .map(|&(n, m)| {
-            if (n, m) == (basis.coupling.n_phi(), basis.coupling.n_psi()) {
-                Ok(basis.coupling.clone())
+            if (n, m) == (single.n_phi(), single.n_psi()) {
+                Ok(single.clone())
             } else {
-                basis.coupling.truncated(n, m).map(Arc::new)
+                single.truncated(n, m).map(Arc::new)
             }
         })
         .collect::<Result<Vec<_>, _>>()?;

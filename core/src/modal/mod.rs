@@ -37,4 +37,4 @@ pub use circular::{
     CircularEdge, CircularPlateSpec, Mode, Parity, PlateModes, RadialFunction,
 };
 pub use error::{CacheReject, ModalError};
-pub use tensor::CouplingTensor;
+pub use tensor::{CouplingTensor, TensorStorage};

@@ -37,10 +37,18 @@
 //! The same row product `v = H^l q` serves the kernels of the linearly implicit schemes
 //! (`contract_eta`, `apply_force`, `coupling_matrix`, in `tensor/blocks_kernels.rs`).
 //!
+//! # Single storage
+//!
+//! With [`super::TensorStorage::Single`] the blocks hold `f32` values in row panels
+//! (`tensor/panels.rs`): the same classes, groups, touched ranges and remainder, only the
+//! block values and their kernel differ (widened to `f64`, accumulated in `f64`). The
+//! default `f64` blocks and their kernels above are unchanged by it.
+//!
 //! Threads: built on a worker thread with the tensor; the kernels run on the audio thread
 //! without allocating.
 
 use super::runs::RunLayout;
+use dense::{dot, dot_axpy, madd, regs, two_mut};
 use std::collections::HashMap;
 
 /// Smallest fill (stored entries over block size) for which a class-pair group is stored as a
@@ -53,8 +61,10 @@ pub(crate) const MIN_FILL: f64 = 0.25;
 /// Cap on colour-refinement passes (each is `O(nnz)`; see the module docs).
 pub(crate) const MAX_REFINE: usize = 200;
 
-/// A dense block of one row: rows `r0..r0+nr`, columns `c0..c0+nc` (permuted indices),
-/// values at `off..off + nr*nc` (row-major). Diagonal when `r0 == c0` (then `nr == nc`, full).
+/// A dense `f64` block of one row: rows `r0..r0+nr`, columns `c0..c0+nc` (permuted indices),
+/// values at `off..off + nr·⌈nc/4⌉·4` (row-major, rows padded to multiples of 4 columns).
+/// Diagonal when `r0 == c0` (then `nr == nc`, full). Single storage keeps its blocks as the
+/// column chunks of `tensor/panels.rs` instead.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Block {
     r0: u32,
@@ -62,6 +72,31 @@ struct Block {
     c0: u32,
     nc: u32,
     off: u32,
+}
+
+/// The values of the dense blocks, in one of two layouts.
+#[derive(Debug, Clone, PartialEq)]
+enum BlockValues {
+    /// `f64`, row-major with rows padded to multiples of 4 columns (the [`regs`] and
+    /// dot/axpy kernels; the default storage).
+    Double(Vec<f64>),
+    /// `f32` row panels and their column chunks (`tensor/panels.rs`; single storage).
+    Single(panels::Panels),
+}
+
+impl Default for BlockValues {
+    fn default() -> Self {
+        Self::Double(Vec::new())
+    }
+}
+
+impl BlockValues {
+    fn len(&self) -> usize {
+        match self {
+            Self::Double(v) => v.len(),
+            Self::Single(p) => p.len(),
+        }
+    }
 }
 
 /// Class-blocked copy of a `j ≤ i` sparse symmetric tensor (see the module docs).
@@ -76,8 +111,8 @@ pub(crate) struct BlockLayout {
     row_blocks: Vec<u32>,
     /// The dense blocks of all rows.
     blocks: Vec<Block>,
-    /// Block values (`H`, not halved).
-    values: Vec<f64>,
+    /// Block values (`H`, not halved): `f64` rows or `f32` row panels.
+    values: BlockValues,
     /// Row `l` touches the ranges `touched[row_touched[l]..row_touched[l + 1]]`.
     row_touched: Vec<u32>,
     /// Permuted index ranges `(start, end)` of the classes each row touches (dense blocks and
@@ -132,120 +167,22 @@ pub(crate) fn mode_classes(n_phi: usize, row_start: &[u32], i: &[u32], j: &[u32]
     class
 }
 
-/// One block with `4 C` (padded) columns: `v_R += M x_C` and, off the diagonal
-/// (`diag = false`), `v_C += Mᵀ x_R`, with `x_C` and the column sums held in `C` 4-lane
-/// registers (no store-to-load chain through `v_C` from row to row). Rows of `m` are padded with
-/// zeros to `4 C`, so the padded lanes read `x` past the class (times 0) and add exact zeros
-/// to `v` past it: `x`, `v` must extend `4 C - nc` entries beyond `c0 + nc` (the scratch
-/// padding of [`PAD`]).
-#[inline(always)]
-#[allow(clippy::too_many_arguments)]
-fn regs<const C: usize, const FMA: bool>(
-    m: &[f64],
-    x: &[f64],
-    v: &mut [f64],
-    r0: usize,
-    nr: usize,
-    c0: usize,
-    diag: bool,
-) {
-    let mut xc = [[0.0f64; 4]; C];
-    for (c, xs) in xc.iter_mut().enumerate() {
-        xs.copy_from_slice(&x[c0 + 4 * c..c0 + 4 * c + 4]);
-    }
-    let mut acc = [[0.0f64; 4]; C];
-    let rows = m.chunks_exact(4 * C).zip(&x[r0..r0 + nr]);
-    for ((row, &s), o) in rows.zip(&mut v[r0..r0 + nr]) {
-        let mut d = [0.0f64; 4];
-        for c in 0..C {
-            for k in 0..4 {
-                let a = row[4 * c + k];
-                d[k] = madd::<FMA>(a, xc[c][k], d[k]);
-                acc[c][k] = madd::<FMA>(s, a, acc[c][k]);
-            }
-        }
-        *o += (d[0] + d[1]) + (d[2] + d[3]);
-    }
-    if !diag {
-        for (c, a) in acc.iter().enumerate() {
-            for (o, &y) in v[c0 + 4 * c..c0 + 4 * c + 4].iter_mut().zip(a) {
-                *o += y;
-            }
-        }
-    }
-}
-
-/// Scratch padding past each `N_Φ` buffer (the padded lanes of [`regs`], at most 3).
+/// Scratch padding past each `N_Φ` buffer (the padded lanes of the `f64` register kernel and
+/// of the single-storage row panels, at most 3).
 pub(crate) const PAD: usize = 4;
-
-/// Two disjoint sub-slices `x[a..a+na]` and `x[b..b+nb]` (`a + na ≤ b` or `b + nb ≤ a`).
-#[inline(always)]
-fn two_mut(x: &mut [f64], a: usize, na: usize, b: usize, nb: usize) -> (&mut [f64], &mut [f64]) {
-    if a < b {
-        let (lo, hi) = x.split_at_mut(b);
-        (&mut lo[a..a + na], &mut hi[..nb])
-    } else {
-        let (lo, hi) = x.split_at_mut(a);
-        (&mut hi[..na], &mut lo[b..b + nb])
-    }
-}
-
-/// `a b + c`, fused (one rounding) when `FMA` (only instantiated where the CPU has FMA).
-#[inline(always)]
-fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FMA {
-        a.mul_add(b, c)
-    } else {
-        a * b + c
-    }
-}
-
-/// `Σ_k m_k x_k` with four independent sums (equal lengths).
-#[inline(always)]
-fn dot<const FMA: bool>(m: &[f64], x: &[f64]) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let (mc, xc) = (m.chunks_exact(4), x.chunks_exact(4));
-    let mut tail = 0.0;
-    for (a, b) in mc.remainder().iter().zip(xc.remainder()) {
-        tail = madd::<FMA>(*a, *b, tail);
-    }
-    for (a, b) in mc.zip(xc) {
-        acc[0] = madd::<FMA>(a[0], b[0], acc[0]);
-        acc[1] = madd::<FMA>(a[1], b[1], acc[1]);
-        acc[2] = madd::<FMA>(a[2], b[2], acc[2]);
-        acc[3] = madd::<FMA>(a[3], b[3], acc[3]);
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
-
-/// Returns `Σ_k m_k x_k` and does `y_k += s m_k`, one pass over `m` (equal lengths).
-#[inline(always)]
-fn dot_axpy<const FMA: bool>(m: &[f64], x: &[f64], y: &mut [f64], s: f64) -> f64 {
-    let mut acc = [0.0f64; 4];
-    let (mc, xc, mut yc) = (m.chunks_exact(4), x.chunks_exact(4), y.chunks_exact_mut(4));
-    let (mr, xr) = (mc.remainder(), xc.remainder());
-    for ((a, b), c) in mc.zip(xc).zip(&mut yc) {
-        acc[0] = madd::<FMA>(a[0], b[0], acc[0]);
-        acc[1] = madd::<FMA>(a[1], b[1], acc[1]);
-        acc[2] = madd::<FMA>(a[2], b[2], acc[2]);
-        acc[3] = madd::<FMA>(a[3], b[3], acc[3]);
-        c[0] = madd::<FMA>(s, a[0], c[0]);
-        c[1] = madd::<FMA>(s, a[1], c[1]);
-        c[2] = madd::<FMA>(s, a[2], c[2]);
-        c[3] = madd::<FMA>(s, a[3], c[3]);
-    }
-    let mut tail = 0.0;
-    for ((a, b), c) in mr.iter().zip(xr).zip(yc.into_remainder()) {
-        tail = madd::<FMA>(*a, *b, tail);
-        *c = madd::<FMA>(s, *a, *c);
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
-}
 
 impl BlockLayout {
     /// Builds the layout from validated CSR parts (`j ≤ i < n_phi ≤ 65 536`, rows sorted by
-    /// `(i, j)`). Worker thread; allocates.
-    pub(crate) fn new(n_phi: usize, row_start: &[u32], i: &[u32], j: &[u32], v: &[f64]) -> Self {
+    /// `(i, j)`), with `f64` block values, or `f32` row panels when `single` (then every `v`
+    /// must be an `f32` value, so that the blocks hold exactly `v`). Worker thread; allocates.
+    pub(crate) fn new(
+        n_phi: usize,
+        row_start: &[u32],
+        i: &[u32],
+        j: &[u32],
+        v: &[f64],
+        single: bool,
+    ) -> Self {
         let n_psi = row_start.len().saturating_sub(1);
         let class = mode_classes(n_phi, row_start, i, j);
         let n_class = class.iter().map(|&c| c as usize + 1).max().unwrap_or(0);
@@ -270,6 +207,11 @@ impl BlockLayout {
             orig,
             row_blocks: vec![0],
             row_touched: vec![0],
+            values: if single {
+                BlockValues::Single(panels::Panels::new(n_phi, PAD))
+            } else {
+                BlockValues::Double(Vec::new())
+            },
             ..Self::default()
         };
         let (mut rest_start, mut rest_i, mut rest_j, mut rest_v) =
@@ -299,31 +241,9 @@ impl BlockLayout {
                 let (na, nb) = (size(ca), size(cb));
                 let cells = if ca == cb { na * (na + 1) / 2 } else { na * nb };
                 if (g1 - g0) as f64 >= MIN_FILL * cells as f64 {
-                    let (a0, b0) = (class_start[ca as usize], class_start[cb as usize]);
-                    // Columns: the smaller class (its partial sums stay in registers).
-                    let (r0, nr, c0, nc, swap) = if ca == cb || na >= nb {
-                        (a0, na, b0, nb, false)
-                    } else {
-                        (b0, nb, a0, na, true)
-                    };
-                    let stride = nc.div_ceil(4) * 4;
-                    let off = out.values.len();
-                    out.values.resize(off + nr * stride, 0.0);
-                    let m = &mut out.values[off..];
-                    for &(_, _, pa, pb, x) in &ents[g0..g1] {
-                        let (pr, pc) = if swap { (pb, pa) } else { (pa, pb) };
-                        m[(pr - r0) as usize * stride + (pc - c0) as usize] = x;
-                        if ca == cb {
-                            m[(pc - c0) as usize * stride + (pr - r0) as usize] = x;
-                        }
-                    }
-                    out.blocks.push(Block {
-                        r0,
-                        nr: nr as u32,
-                        c0,
-                        nc: nc as u32,
-                        off: off as u32,
-                    });
+                    let a = (class_start[ca as usize], na);
+                    let b = (class_start[cb as usize], nb);
+                    out.push_block(a, b, ca == cb, &ents[g0..g1]);
                 } else {
                     rest.extend(
                         ents[g0..g1]
@@ -346,6 +266,9 @@ impl BlockLayout {
             }
             out.row_touched.push(out.touched.len() as u32);
             out.row_blocks.push(out.blocks.len() as u32);
+            if let BlockValues::Single(p) = &mut out.values {
+                p.end_row();
+            }
             rest.sort_by_key(|x| (x.0, x.1));
             for (a, b, x) in rest {
                 rest_i.push(a);
@@ -367,11 +290,76 @@ impl BlockLayout {
         out
     }
 
+    /// Appends the dense block of one class-pair group: row class `a`, column class `b`
+    /// (`(first permuted index, size)`; `diag` when they are the same class), entries
+    /// `(class, class, permuted a, permuted b, value)` with the first index in `a`.
+    fn push_block(
+        &mut self,
+        a: (u32, usize),
+        b: (u32, usize),
+        diag: bool,
+        ents: &[(u32, u32, u32, u32, f64)],
+    ) {
+        let ((a0, na), (b0, nb)) = (a, b);
+        match &mut self.values {
+            BlockValues::Double(values) => {
+                // Columns: the smaller class (its partial sums stay in registers).
+                let (r0, nr, c0, nc, swap) = if diag || na >= nb {
+                    (a0, na, b0, nb, false)
+                } else {
+                    (b0, nb, a0, na, true)
+                };
+                let stride = nc.div_ceil(4) * 4;
+                let off = values.len();
+                values.resize(off + nr * stride, 0.0);
+                let m = &mut values[off..];
+                for &(_, _, pa, pb, x) in ents {
+                    let (pr, pc) = if swap { (pb, pa) } else { (pa, pb) };
+                    m[(pr - r0) as usize * stride + (pc - c0) as usize] = x;
+                    if diag {
+                        m[(pc - c0) as usize * stride + (pr - r0) as usize] = x;
+                    }
+                }
+                self.blocks.push(Block {
+                    r0,
+                    nr: nr as u32,
+                    c0,
+                    nc: nc as u32,
+                    off: off as u32,
+                });
+            }
+            BlockValues::Single(p) => {
+                // Rows: the larger class (module docs of `tensor/panels.rs`).
+                let (r0, nr, c0, nc, swap) = if diag || na >= nb {
+                    (a0, na, b0, nb, false)
+                } else {
+                    (b0, nb, a0, na, true)
+                };
+                let entries = ents.iter().map(|&(_, _, pa, pb, x)| {
+                    let (pr, pc) = if swap { (pb, pa) } else { (pa, pb) };
+                    // `x` is an f32 value (single storage rounds the tensor first): exact.
+                    ((pr - r0) as usize, (pc - c0) as usize, x as f32)
+                });
+                p.push_block((r0 as usize, nr), (c0 as usize, nc), diag, entries);
+            }
+        }
+    }
+
+    /// Whether the block values are the `f32` row panels (single storage).
+    #[cfg(test)]
+    pub(crate) fn is_single(&self) -> bool {
+        matches!(self.values, BlockValues::Single(_))
+    }
+
     /// `(number of classes, number of dense blocks, stored dense values, remainder entries)`.
     pub(crate) fn stats(&self) -> (usize, usize, usize, usize) {
+        let blocks = match &self.values {
+            BlockValues::Double(_) => self.blocks.len(),
+            BlockValues::Single(p) => p.blocks(),
+        };
         (
             self.class_start.len().saturating_sub(1),
-            self.blocks.len(),
+            blocks,
             self.values.len(),
             self.rest.len(),
         )
@@ -390,10 +378,20 @@ impl BlockLayout {
             v[a as usize..b as usize].fill(0.0);
         }
         let blocks = &self.blocks[self.row_blocks[l] as usize..self.row_blocks[l + 1] as usize];
+        match &self.values {
+            BlockValues::Double(values) => Self::blocks_f64::<FMA>(blocks, values, x, v),
+            BlockValues::Single(p) => p.row_apply::<FMA>(l, x, v),
+        }
+        self.rest.add_row_times(l, 1.0, x, v, 1, 0);
+    }
+
+    /// The `f64` blocks of one row: `v += H^l x` (see [`Self::row_apply`]).
+    #[inline(always)]
+    fn blocks_f64<const FMA: bool>(blocks: &[Block], values: &[f64], x: &[f64], v: &mut [f64]) {
         for b in blocks {
             let (r0, nr, c0, nc) = (b.r0 as usize, b.nr as usize, b.c0 as usize, b.nc as usize);
             let stride = nc.div_ceil(4) * 4;
-            let m = &self.values[b.off as usize..b.off as usize + nr * stride];
+            let m = &values[b.off as usize..b.off as usize + nr * stride];
             match (stride / 4, r0 == c0) {
                 (1, d) => regs::<1, FMA>(m, x, v, r0, nr, c0, d),
                 (2, d) => regs::<2, FMA>(m, x, v, r0, nr, c0, d),
@@ -414,7 +412,6 @@ impl BlockLayout {
                 }
             }
         }
-        self.rest.add_row_times(l, 1.0, x, v, 1, 0);
     }
 
     /// Fused `eta[l] = Σ_{ij} H^l_{ij} q_i q_j` and `grad = ∇_q Σ_l w_l eta_l²
@@ -496,8 +493,14 @@ impl BlockLayout {
     }
 }
 
+#[path = "blocks_dense.rs"]
+mod dense;
+
 #[path = "blocks_kernels.rs"]
 mod kernels;
+
+#[path = "panels.rs"]
+mod panels;
 
 #[cfg(test)]
 #[path = "blocks_tests.rs"]

@@ -71,13 +71,21 @@ fn refinement_recovers_planted_classes() {
 fn block_kernel_matches_runs_and_direct_sums() {
     // Classes of about 12 modes (4-lane register kernel, 1 to 4 lanes) and of about 33
     // (the general dot/axpy path).
-    check_block_kernel(70, 7, 6, 3);
-    check_block_kernel(100, 5, 3, 11);
+    // Both storages: f64 blocks, and f32 row panels of the values rounded to f32 (the runs
+    // and the direct sums then use the same rounded values).
+    for single in [false, true] {
+        check_block_kernel(70, 7, 6, 3, single);
+        check_block_kernel(100, 5, 3, 11, single);
+    }
 }
 
-fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64) {
-    let (_, rs, ri, rj, rv) = planted(nf, np, k, &mut seed);
-    let blocks = BlockLayout::new(nf, &rs, &ri, &rj, &rv);
+fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool) {
+    let (_, rs, ri, rj, mut rv) = planted(nf, np, k, &mut seed);
+    if single {
+        rv.iter_mut().for_each(|x| *x = f64::from(*x as f32));
+    }
+    let blocks = BlockLayout::new(nf, &rs, &ri, &rj, &rv, single);
+    assert_eq!(blocks.is_single(), single);
     let runs = RunLayout::new(nf, &rs, &ri, &rj, &rv);
     let (_, n_blocks, _, n_rest) = blocks.stats();
     assert!(
@@ -93,7 +101,17 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64) {
     // Both instantiations (plain and fused multiply-add), whatever this CPU has.
     let (mut eta_p, mut grad_p) = (vec![0.0; np], vec![0.0; nf]);
     blocks.quartic::<false>(&q, &w, &mut eta_p, &mut grad_p, &mut scratch);
-    blocks.quartic::<true>(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+    // The FMA instantiation runs AVX2 intrinsics on x86-64 (single storage): only where the
+    // CPU has them (the layout's own dispatch otherwise).
+    #[cfg(target_arch = "x86_64")]
+    let fma = is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let fma = true;
+    if fma {
+        blocks.quartic::<true>(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+    } else {
+        blocks.quartic_gradient(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+    }
     // Direct: dense H^l from the entries.
     let mut h = vec![0.0; np * nf * nf];
     for l in 0..np {
@@ -118,7 +136,13 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64) {
             .collect();
         let eta: f64 = (0..nf).map(|s| q[s] * hq[s]).sum();
         let escale: f64 = (0..nf).map(|s| q[s].abs() * habs[s]).sum();
-        assert!((eta_b[l] - eta).abs() <= 1e-13 * escale, "eta {l}");
+        assert!(
+            (eta_b[l] - eta).abs() <= 1e-13 * escale,
+            "eta {l} (single {single}): {} vs {eta} (runs {}, plain {}), scale {escale}",
+            eta_b[l],
+            eta_r[l],
+            eta_p[l]
+        );
         assert!(
             (eta_b[l] - eta_r[l]).abs() <= 1e-13 * escale,
             "eta runs {l}"
@@ -200,4 +224,44 @@ fn gong_tensor_classes_and_kernel() {
             gr[s]
         );
     }
+}
+
+/// The AVX2 `dot` of the `FMA` instantiation is the portable one bit for bit (same lanes,
+/// same fused multiply-adds, same final order), for every length 0 to 40 and random data, so
+/// the default `f64` kernels' results did not change when it replaced the compiler's
+/// vectorisation. Exact equality (`to_bits`): any reordering would show in the last bits of
+/// these ~40-term sums of mixed signs.
+#[test]
+fn avx2_dot_is_the_portable_dot_bit_for_bit() {
+    #[cfg(target_arch = "x86_64")]
+    if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+        let mut seed = 17;
+        let mut differing = 0;
+        for n in 0..=40 {
+            let m: Vec<f64> = (0..n).map(|_| lcg(&mut seed) - 0.5).collect();
+            let x: Vec<f64> = (0..n).map(|_| lcg(&mut seed) * 1e3 - 5e2).collect();
+            // SAFETY: the CPU has AVX2 and FMA (checked above).
+            let fast = unsafe { dot_avx2_for_tests(&m, &x) };
+            assert_eq!(
+                fast.to_bits(),
+                super::dense::dot_portable::<true>(&m, &x).to_bits(),
+                "n = {n}"
+            );
+            // The control: a plain left-to-right sum differs in the last bits for most n.
+            let naive: f64 = m.iter().zip(&x).map(|(a, b)| a * b).sum();
+            differing += usize::from(naive.to_bits() != fast.to_bits());
+        }
+        assert!(
+            differing > 10,
+            "the comparison sees reordering: {differing}"
+        );
+    }
+}
+
+/// [`dot`]'s `FMA` instantiation compiled with AVX2 and FMA enabled, as inside the layout's
+/// entry points.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn dot_avx2_for_tests(m: &[f64], x: &[f64]) -> f64 {
+    dot::<true>(m, x)
 }

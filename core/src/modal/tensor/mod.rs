@@ -16,18 +16,44 @@
 //!
 //! Submodules: `blocks.rs` (the dense selection-rule blocks the time schemes stream, with the
 //! dot helpers), `blocks_kernels.rs` (their SIMD/FMA kernels with caller-owned scratch),
-//! `runs.rs` (the run layout, kept as the reference implementation the tests compare with).
+//! `panels.rs` (the `f32` row panels of single storage), `runs.rs` (the run layout, kept as
+//! the reference implementation the tests compare with), `storage.rs`
+//! ([`CouplingTensor::with_storage`], single storage).
 //!
 //! Threads: built once on a worker thread (allocates); the kernels take `&self` and
 //! caller-owned slices, never allocate, and are meant for the audio thread.
 
 mod blocks;
 mod runs;
+mod storage;
 mod truncate;
 
 use crate::error::ParamError;
 use blocks::{BlockLayout, PAD};
 use runs::{RunLayout, MAX_N_PHI};
+use serde::{Deserialize, Serialize};
+
+/// How a [`CouplingTensor`] stores its values (scene field `plate.tensor_storage`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TensorStorage {
+    /// `f64` values as computed (the default; the reference kernels).
+    #[default]
+    Double,
+    /// Values rounded to `f32` once, every layout rebuilt from the rounded values; the block
+    /// kernels read `f32` and accumulate in `f64` (see the module docs).
+    Single,
+}
+
+impl TensorStorage {
+    /// The storage's name in scenes and reports (`double`, `single`).
+    pub fn name(self) -> &'static str {
+        match self {
+            TensorStorage::Double => "double",
+            TensorStorage::Single => "single",
+        }
+    }
+}
 
 /// Sparse symmetric coupling tensor `H^l_{ij}` (dimensionless for the unit-radius plate with
 /// unit-norm modes).
@@ -51,6 +77,8 @@ pub struct CouplingTensor {
     runs: RunLayout,
     /// The same entries as dense selection-rule blocks (the fused SAV kernel).
     blocks: BlockLayout,
+    /// How the values are stored (every layout above holds the same numbers).
+    storage: TensorStorage,
 }
 
 impl CouplingTensor {
@@ -125,9 +153,32 @@ impl CouplingTensor {
                 }
             }
         }
+        Ok(Self::assemble(
+            n_phi,
+            n_psi,
+            row_start,
+            i,
+            j,
+            value,
+            TensorStorage::Double,
+        ))
+    }
+
+    /// The tensor of validated parts, its run and block layouts built from the same `value`
+    /// (already rounded to `f32` for [`TensorStorage::Single`]). Worker thread.
+    fn assemble(
+        n_phi: usize,
+        n_psi: usize,
+        row_start: Vec<u32>,
+        i: Vec<u32>,
+        j: Vec<u32>,
+        value: Vec<f64>,
+        storage: TensorStorage,
+    ) -> Self {
         let runs = RunLayout::new(n_phi, &row_start, &i, &j, &value);
-        let blocks = BlockLayout::new(n_phi, &row_start, &i, &j, &value);
-        Ok(Self {
+        let single = storage == TensorStorage::Single;
+        let blocks = BlockLayout::new(n_phi, &row_start, &i, &j, &value, single);
+        Self {
             runs,
             blocks,
             n_phi,
@@ -136,7 +187,8 @@ impl CouplingTensor {
             i,
             j,
             value,
-        })
+            storage,
+        }
     }
 
     /// Number of transverse modes `N_Φ`.

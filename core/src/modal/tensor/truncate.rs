@@ -12,7 +12,8 @@ use crate::error::ParamError;
 
 impl CouplingTensor {
     /// The sub-tensor of the first `n_phi` transverse and `n_psi` in-plane modes, with its run
-    /// and block layouts rebuilt. Errors (naming the field, value and allowed range) when
+    /// and block layouts rebuilt, in this tensor's storage (the values of a single-storage
+    /// tensor are already `f32`-representable: the copy is exact). Errors (naming the field, value and allowed range) when
     /// `n_phi` or `n_psi` is 0 or exceeds this tensor's counts.
     pub fn truncated(&self, n_phi: usize, n_psi: usize) -> Result<CouplingTensor, ParamError> {
         if n_phi == 0 || n_phi > self.n_phi() {
@@ -47,7 +48,8 @@ impl CouplingTensor {
             }
             row_start.push(value.len() as u32);
         }
-        CouplingTensor::from_parts(n_phi, n_psi, row_start, i, j, value)
+        CouplingTensor::from_parts(n_phi, n_psi, row_start, i, j, value)?
+            .with_storage(self.storage())
     }
 }
 

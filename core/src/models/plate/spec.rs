@@ -27,6 +27,9 @@ impl PlateShape {
 /// Time scheme of the plate (`plate.scheme`): the model's own enumeration.
 pub use super::params::PlateScheme;
 
+/// Storage of the coupling tensor (`plate.tensor_storage`): the tensor's own enumeration.
+pub use crate::modal::TensorStorage;
+
 /// Which motions a circular plate's modal basis represents (`plate.symmetry`).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -254,6 +257,11 @@ pub struct PlateSpec {
     pub sim_rate: f64,
     /// Time scheme.
     pub scheme: PlateScheme,
+    /// Storage of the coupling tensor's values: `"double"` (default, `f64`) or `"single"`
+    /// (every value rounded to `f32` once; faster kernels, the energy still conserved to
+    /// round-off; see [`crate::modal::TensorStorage`]).
+    #[serde(default)]
+    pub tensor_storage: TensorStorage,
     /// Losses.
     #[serde(default)]
     pub damping: Damping,
@@ -427,6 +435,9 @@ mod tests {
     #[test]
     fn report_names_are_the_scene_spellings() {
         for s in [Symmetry::Full, Symmetry::StrikeMirror] {
+            assert_eq!(serde_json::to_value(s).unwrap(), s.name(), "{s:?}");
+        }
+        for s in [TensorStorage::Double, TensorStorage::Single] {
             assert_eq!(serde_json::to_value(s).unwrap(), s.name(), "{s:?}");
         }
         for s in [

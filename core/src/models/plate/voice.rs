@@ -63,7 +63,10 @@ impl PlateVoice {
             scene.symmetry,
         )
         .map_err(scoped)?;
-        let basis = ModalCache::default().basis(&key)?;
+        let basis = ModalCache::default()
+            .basis(&key)?
+            .with_tensor_storage(scene.tensor_storage)
+            .map_err(scoped)?;
         // The mirror basis lives in the frame where the strike is at θ = 0: every position's
         // angle is taken relative to the strike's.
         let theta0 = if scene.shape.is_circular() && scene.symmetry == Symmetry::StrikeMirror {

@@ -1,0 +1,157 @@
+//! The von Kármán coupling tensor's cost per stored entry, double against single storage
+//! (`plate.tensor_storage`), on the gong's tensors: the fused SAV kernel alone
+//! (`CouplingTensor::quartic_gradient`), and a whole `sav` step of the gong voice
+//! (a = 0.4 m, h = 1 mm, 40 N strike, simulated at 12 kHz, as `examples/gong_rtf.rs`).
+//!
+//! `cargo bench --bench tensor_kernels`. Times are the bench thread's CPU time
+//! (`CLOCK_THREAD_CPUTIME_ID`, through `iter_custom`: the machine is shared, and wall time
+//! counts the other processes). Throughput is in tensor entries (one step = `nnz` entries), so
+//! criterion's `elem/s` inverts to ns per entry per step. Environment (optional):
+//! `NOETHER_BENCH_TENSORS=mirror:510x15,full:1000x30` (`full` or `mirror` basis, `N_Φ x N_Ψ`;
+//! default `mirror:510x15,mirror:510x30,full:1000x30`).
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use noether::modal::{
+    default_cache_dir, CircularEdge, CircularPlateSpec, PlateModes, TensorStorage,
+};
+use noether::models::plate::voice::PlateVoice;
+use noether::render::source::RenderSource;
+use noether::scene::Scene;
+use std::hint::black_box;
+use std::time::Duration;
+
+/// Steps per iteration of the whole-step bench.
+const STEPS: usize = 32;
+
+/// CPU time of the calling thread.
+fn thread_cpu_time() -> Duration {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is supported by Linux.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+}
+
+/// Thread-CPU time of `iters` calls of `f`.
+fn cpu_time(iters: u64, mut f: impl FnMut()) -> Duration {
+    let t0 = thread_cpu_time();
+    for _ in 0..iters {
+        f();
+    }
+    thread_cpu_time() - t0
+}
+
+/// The tensors of `NOETHER_BENCH_TENSORS`: `(label, mirror basis, N_Φ, N_Ψ)`.
+fn sizes() -> Vec<(String, bool, usize, usize)> {
+    std::env::var("NOETHER_BENCH_TENSORS")
+        .unwrap_or_else(|_| "mirror:510x15,mirror:510x30,full:1000x30".into())
+        .split(',')
+        .map(|s| {
+            let (basis, size) = s.trim().split_once(':').expect("BASIS:NxM");
+            let (a, b) = size.split_once('x').expect("NxM");
+            let mirror = match basis {
+                "mirror" => true,
+                "full" => false,
+                _ => panic!("NOETHER_BENCH_TENSORS: basis `full` or `mirror`, got {basis}"),
+            };
+            (
+                s.trim().to_string(),
+                mirror,
+                a.parse().unwrap(),
+                b.parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+/// The gong voice of `examples/gong_rtf.rs` with the given basis, size and storage.
+fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str) -> PlateVoice {
+    let symmetry = if mirror { "strike-mirror" } else { "full" };
+    let text = format!(
+        r#"
+[output]
+sample_rate = 48000
+seconds = 1.0
+[plate]
+shape = "circular-free"
+radius = 0.4
+thickness = 0.001
+n_phi = {n_phi}
+n_psi = {n_psi}
+sim_rate = 12000
+scheme = "sav"
+symmetry = "{symmetry}"
+tensor_storage = "{storage}"
+damping = {{ law = "power", a = 0.005, b = 0.6 }}
+excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
+"#
+    );
+    let scene = Scene::from_toml(&text, "bench", &[]).unwrap();
+    PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
+}
+
+/// The fused SAV kernel alone, per storage.
+fn kernel(c: &mut Criterion) {
+    let mut g = c.benchmark_group("tensor-kernel");
+    g.sample_size(20);
+    for (label, mirror, n_phi, n_psi) in sizes() {
+        let mut spec = CircularPlateSpec::new(CircularEdge::Free, 0.3, n_phi, n_psi, None).unwrap();
+        if mirror {
+            spec = spec.mirror_symmetric();
+        }
+        let (modes, _) = PlateModes::load_or_build(&spec, &default_cache_dir()).unwrap();
+        let q: Vec<f64> = (0..n_phi)
+            .map(|s| ((s * 7919) % 1000) as f64 * 1e-3 - 0.5)
+            .collect();
+        let w = vec![1.0; n_psi];
+        for storage in [TensorStorage::Double, TensorStorage::Single] {
+            let t = modes.coupling.with_storage(storage).unwrap();
+            g.throughput(Throughput::Elements(t.nnz() as u64));
+            let (mut eta, mut grad) = (vec![0.0; n_psi], vec![0.0; n_phi]);
+            let mut scratch = vec![0.0; t.quartic_scratch_len()];
+            g.bench_function(format!("{}/{label}", storage.name()), |b| {
+                b.iter_custom(|iters| {
+                    cpu_time(iters, || {
+                        t.quartic_gradient(&q, &w, &mut eta, &mut grad, &mut scratch);
+                        black_box(grad[0]);
+                    })
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+/// A whole `sav` step of the gong voice (`PlateVoice::process`: one model step per frame at
+/// the 12 kHz simulation rate, pickups and energy included), per storage.
+fn step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("tensor-sav-step");
+    g.sample_size(10);
+    for (label, mirror, n_phi, n_psi) in sizes() {
+        for storage in [TensorStorage::Double, TensorStorage::Single] {
+            let mut v = voice(mirror, n_phi, n_psi, storage.name());
+            let nnz = v.model().coupling().nnz();
+            g.throughput(Throughput::Elements((nnz * STEPS) as u64));
+            let mut out = vec![vec![0.0; STEPS]; v.channels()];
+            // Past the 10 ms strike, into the free decay.
+            for _ in 0..8 {
+                v.process(&mut out, STEPS);
+            }
+            g.bench_function(format!("{}/{label}", storage.name()), |b| {
+                b.iter_custom(|iters| {
+                    cpu_time(iters, || {
+                        v.process(&mut out, STEPS);
+                        black_box(out[0][STEPS - 1]);
+                    })
+                })
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, kernel, step);
+criterion_main!(benches);
