@@ -57,7 +57,7 @@ pub struct Engine {
     pub(super) reset_pending: bool,
     /// Longest wait for the workers' jobs per chunk (`None`: the chunk's duration).
     pub(super) job_wait: Option<Duration>,
-    /// Threads that shared the last chunk's voices (the audio thread included).
+    /// Threads allowed to share the last chunk's voices (the audio thread included).
     pub(super) threads_used: u8,
     pub(super) late: u64,
     /// Jobs run by the workers of pools already stopped.

@@ -33,8 +33,9 @@ impl Engine {
         self.late
     }
 
-    /// Threads that shared the last chunk's voices, the audio thread included (1: the audio
-    /// thread alone).
+    /// Threads allowed to share the last chunk's voices, the audio thread included: the
+    /// `threads` parameter capped at the pool's workers plus one (1: the audio thread alone;
+    /// a chunk with one sounding voice runs on the audio thread whatever this says).
     pub fn threads_used(&self) -> usize {
         self.threads_used as usize
     }

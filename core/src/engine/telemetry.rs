@@ -79,8 +79,9 @@ pub struct Telemetry {
     /// Largest single-block load of the audio thread in the last frame (block time / block
     /// duration).
     pub cpu_peak: f32,
-    /// Threads that shared the last chunk's voices, the audio thread included (the `threads`
-    /// parameter, capped at the machine's cores).
+    /// Threads allowed to share the last chunk's voices, the audio thread included (the
+    /// `threads` parameter, capped at the machine's cores; a chunk with one sounding voice
+    /// runs on the audio thread alone).
     pub threads: u8,
     /// Voice jobs still running on a worker when the audio thread's bounded wait ended,
     /// since activation (their chunks were left out of the mix; see `Engine::set_job_wait`).
