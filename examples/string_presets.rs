@@ -5,7 +5,8 @@
 //! for example `cargo run --release --example string_presets -- sitar modes=200
 //! sim_rate=192000`. `key=value` pairs override engine parameters of the preset (as
 //! `noether accuracy --preset --set`). One voice, 48 kHz host rate, through the public
-//! `noether::engine` API (bank, voice, resampler: what the plugin runs). For the keys
+//! `noether::engine` API (bank, voice, resampler: what the plugin runs; `threads = 1`, so the
+//! voice runs on the calling thread). For the keys
 //! root - 12, root and root + 12 at velocities 40 and 127 (0.315 and 1.0) it prints:
 //!
 //! - the contact energy share: the largest `nonlinear / total` of the voice's energy terms,
@@ -51,6 +52,8 @@ fn engine(preset: &Preset, block: usize) -> Engine {
     let params = Arc::new(SharedParams::new());
     preset.apply(&params).expect("preset");
     params.set(ParamId::Polyphony, 1.0).expect("polyphony");
+    // The voice runs on the calling thread, whose CPU time is measured.
+    params.set(ParamId::Threads, 1.0).expect("threads");
     let (mut e, _h) = Engine::new(params);
     e.activate(RATE, block).expect("activate");
     e

@@ -18,6 +18,9 @@ fn play(preset: &Preset, key: u8, vel: u8) -> (Vec<f64>, f64) {
     let params = Arc::new(SharedParams::new());
     preset.apply(&params).unwrap();
     params.set(ParamId::Polyphony, 1.0).unwrap();
+    // The voice on the calling thread: its energy terms are readable after every block (a
+    // pool worker's late job would hold them).
+    params.set(ParamId::Threads, 1.0).unwrap();
     let (mut e, _h) = Engine::new(params);
     e.activate(RATE, BLOCK).unwrap();
     e.note_on(key, f32::from(vel) / 127.0);
