@@ -12,7 +12,7 @@ use noether::render::preset_engine::find_preset;
 use noether::render::report::{write_spectrogram, write_waveform_png};
 use noether::render::wav::{write_wav, WavFormat};
 use noether::Error;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `noether play`.
 #[derive(Debug, Args)]
@@ -93,17 +93,11 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         tail: a.tail,
     };
     settings.validate()?;
-    let wav = a
-        .output
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(format!("play-{}.wav", found.stem)));
-    let report_path = a
-        .report
-        .clone()
-        .unwrap_or_else(|| wav.with_extension("json"));
-    if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
-        super::files::create_dir(parent)?;
-    }
+    let (wav, report_path) = super::files::wav_and_report(
+        a.output.as_deref(),
+        &format!("play-{}.wav", found.stem),
+        a.report.as_deref(),
+    )?;
     eprintln!(
         "playing {} ({}): {} events, {:.2} s + {:.2} s tail at {} Hz, blocks of {}",
         found.stem,

@@ -8,7 +8,7 @@ use noether::render::scene::render_scene;
 use noether::render::wav::{write_wav, WavFormat};
 use noether::scene::Scene;
 use noether::Error;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// The scene `noether` renders when run without arguments.
 pub const DEFAULT_SCENE: &str = "assets/scenes/gong.toml";
@@ -47,17 +47,11 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
     } else {
         (loaded, None)
     };
-    let wav = a
-        .output
-        .clone()
-        .unwrap_or_else(|| Path::new("out").join(format!("{}.wav", scene.name)));
-    let report_path = a
-        .report
-        .clone()
-        .unwrap_or_else(|| wav.with_extension("json"));
-    if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
-        super::files::create_dir(parent)?;
-    }
+    let (wav, report_path) = super::files::wav_and_report(
+        a.output.as_deref(),
+        &format!("{}.wav", scene.name),
+        a.report.as_deref(),
+    )?;
     eprintln!(
         "rendering {} ({} s at {} Hz output)",
         scene.name, scene.output.seconds, scene.output.sample_rate
