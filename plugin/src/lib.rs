@@ -127,7 +127,11 @@ impl Plugin for Noether {
             .engine
             .activate(f64::from(buffer_config.sample_rate), max_block)
         {
-            Ok(()) => {
+            Ok(refused) => {
+                if let Some(e) = refused {
+                    // The editor shows the same message (the engine handle's last error).
+                    nice_error!("{e}: the last model that could be built keeps playing");
+                }
                 context.set_latency_samples(self.engine.latency_samples());
                 true
             }

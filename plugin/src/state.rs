@@ -29,7 +29,9 @@
 //! Threads: the host's main thread (state load), never the audio thread.
 
 use nice_plug::plugin::{ParamValue, PluginState};
-use noether_core::engine::{ParamInfo, ParamKind, PARAMS};
+use noether_core::engine::{
+    legacy_bridge_fraction, ParamId, ParamInfo, ParamKind, LEGACY_BRIDGE_POSITION, PARAMS,
+};
 use std::fmt;
 
 /// One change [`repair`] made to a loaded state.
@@ -64,6 +66,17 @@ pub enum StateIssue {
         clamped: f32,
         /// The parameter's range.
         range: (f32, f32),
+    },
+    /// A value saved under a key this version replaced: converted to the new parameter.
+    Migrated {
+        /// The old key.
+        from: &'static str,
+        /// The saved value.
+        value: f64,
+        /// The new key.
+        to: &'static str,
+        /// The value it gives the new key (before the range check).
+        converted: f64,
     },
     /// A value of the wrong type or not finite: converted exactly, or replaced by the default.
     WrongType {
@@ -104,6 +117,16 @@ impl fmt::Display for StateIssue {
                 f,
                 "plugin state: `{key}` = {value} is outside [{}, {}]: clamped to {clamped}",
                 range.0, range.1
+            ),
+            Self::Migrated {
+                from,
+                value,
+                to,
+                converted,
+            } => write!(
+                f,
+                "plugin state: `{from}` = {value} m is now `{to}`, a fraction of the string's \
+                 length: {converted}"
             ),
             Self::WrongType {
                 key,
@@ -176,6 +199,42 @@ fn stored(info: &ParamInfo, x: f32) -> ParamValue {
     }
 }
 
+/// States saved before the bridge became a fraction of the string hold its position (or the
+/// curved bridge's extent) in metres under [`LEGACY_BRIDGE_POSITION`]: converted with the
+/// saved string length (or the default one) unless the new key is present too.
+fn migrate_bridge(state: &mut PluginState, issues: &mut Vec<StateIssue>) {
+    let Some(old) = state.params.remove(LEGACY_BRIDGE_POSITION) else {
+        return;
+    };
+    let new = ParamId::BridgePosition.info();
+    let number = |v: Option<&ParamValue>| match v {
+        Some(ParamValue::F32(x)) => Some(f64::from(*x)),
+        Some(ParamValue::I32(i)) => Some(f64::from(*i)),
+        _ => None,
+    };
+    let size = ParamId::Size.info();
+    let length = number(state.params.get(size.key))
+        .filter(|l| l.is_finite() && *l > 0.0)
+        .unwrap_or(f64::from(size.default));
+    match number(Some(&old)) {
+        Some(metres) if !state.params.contains_key(new.key) => {
+            let converted = legacy_bridge_fraction(metres, length);
+            issues.push(StateIssue::Migrated {
+                from: LEGACY_BRIDGE_POSITION,
+                value: metres,
+                to: new.key,
+                converted,
+            });
+            state
+                .params
+                .insert(new.key.to_string(), ParamValue::F32(converted as f32));
+        }
+        _ => issues.push(StateIssue::Unknown {
+            key: LEGACY_BRIDGE_POSITION.to_string(),
+        }),
+    }
+}
+
 /// Makes `state` defined (see the module documentation) and returns every change made, in
 /// table order (then unknown keys). `current` is this plugin's version. Main thread.
 pub fn repair(state: &mut PluginState, current: &'static str) -> Vec<StateIssue> {
@@ -186,6 +245,7 @@ pub fn repair(state: &mut PluginState, current: &'static str) -> Vec<StateIssue>
             current,
         });
     }
+    migrate_bridge(state, &mut issues);
     for info in PARAMS {
         let Some(v) = state.params.get(info.key) else {
             issues.push(StateIssue::Missing {
@@ -248,7 +308,7 @@ pub fn repair(state: &mut PluginState, current: &'static str) -> Vec<StateIssue>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use noether_core::engine::{ParamId, MODEL_NAMES};
+    use noether_core::engine::MODEL_NAMES;
 
     const V: &str = "0.1.0";
 
@@ -270,6 +330,25 @@ mod tests {
             ParamValue::I32(i) => i as f32,
             ref other => panic!("{other:?}"),
         }
+    }
+
+    /// A state from before the bridge became a fraction: its metres become the fraction of
+    /// the saved string length (30 mm on a 0.6 m string: 0.05).
+    #[test]
+    fn a_bridge_in_metres_becomes_a_fraction_of_the_string() {
+        let mut s = full_state();
+        s.params.remove(ParamId::BridgePosition.info().key);
+        s.params
+            .insert(LEGACY_BRIDGE_POSITION.into(), ParamValue::F32(0.03));
+        s.params
+            .insert(ParamId::Size.info().key.into(), ParamValue::F32(0.6));
+        let issues = repair(&mut s, V);
+        assert!(
+            matches!(issues[..], [StateIssue::Migrated { .. }]),
+            "{issues:?}"
+        );
+        assert!((value(&s, ParamId::BridgePosition) - 0.05).abs() < 1e-6);
+        assert!(!s.params.contains_key(LEGACY_BRIDGE_POSITION));
     }
 
     /// A state this version saved is loaded unchanged, with no issue.

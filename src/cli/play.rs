@@ -43,7 +43,7 @@ pub struct PlayArgs {
     /// A standard MIDI file (format 0 or 1) to play instead of --note.
     #[arg(long, value_name = "FILE.mid")]
     pub midi: Option<PathBuf>,
-    /// Host sample rate in Hz (22050 to 192000).
+    /// Host sample rate in Hz (8000 to 768000).
     #[arg(long, default_value_t = 48_000)]
     pub rate: u32,
     /// Host block size in samples (1 to 8192).

@@ -95,7 +95,10 @@ pub fn start_engine(
     // bound), so no voice's chunk is ever left out as late and renders repeat bit for bit.
     engine.set_job_wait(Some(Duration::from_secs(10)));
     let start = Instant::now();
-    engine.activate(host_rate, max_block)?;
+    // Offline renders are strict: a set the models refuse is an error, not a fallback.
+    if let Some(refused) = engine.activate(host_rate, max_block)? {
+        return Err(refused);
+    }
     wait_for_bank(&mut engine, &handle, max_block, timeout)?;
     Ok(PresetEngine {
         engine,

@@ -6,9 +6,11 @@
 #[global_allocator]
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
+mod always_playable;
 mod cascade;
 mod engine;
 mod engine_alloc;
 mod engine_threads;
+mod preset_levels;
 mod string_presets;
 mod tiers;

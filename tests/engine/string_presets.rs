@@ -83,7 +83,7 @@ fn string_presets_touch_their_bridge_and_the_sitars_buzz() {
     // and its brightness falls like any plucked string's: both checks above fail on it.
     let plain = with_overrides(
         &Preset::factory_named("sitar").unwrap(),
-        &["bridge_curvature=1".into(), "bridge_position=0.01".into()],
+        &["bridge_curvature=1".into(), "bridge_fraction=0.01".into()],
     )
     .unwrap();
     let (left, share) = play(&plain, 55, 127);

@@ -2,8 +2,9 @@
 
 use super::bank::{Bank, ModalCache, CHUNK};
 use super::events::{Event, EventKind, GuiCommand};
-use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus};
+use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus, KEPT};
 use super::mix::{run_bank, Sharing, Tally};
+use super::output::OutputStage;
 use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
 use super::pool::Pool;
 use super::telemetry::Telemetry;
@@ -15,10 +16,11 @@ use ringbuf::{HeapCons, HeapProd, HeapRb};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-/// Lowest accepted host rate (Hz).
-pub const MIN_HOST_RATE: f64 = 22_050.0;
+/// Lowest accepted host rate (Hz). The models run at their own simulation rate and are
+/// resampled to the host's, so any rate a host may use is accepted.
+pub const MIN_HOST_RATE: f64 = 8_000.0;
 /// Highest accepted host rate (Hz).
-pub const MAX_HOST_RATE: f64 = 192_000.0;
+pub const MAX_HOST_RATE: f64 = 768_000.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation
 /// costs at most one O(N) retune per voice every 2 ms.
 const RETUNE_INTERVAL: f64 = 0.002;
@@ -69,6 +71,8 @@ pub struct Engine {
     pub(super) sustain: bool,
     pub(super) frame: u64,
     pub(super) gain: f32,
+    /// Low cut, limiter and full-scale guard at the host rate (rebuilt by `activate`).
+    pub(super) output: OutputStage,
     pub(super) retune_wait: usize,
     pub(super) fade_len: usize,
     pub(super) scratch: [Vec<f32>; 2],
@@ -128,6 +132,7 @@ impl Engine {
             sustain: false,
             frame: 0,
             gain: 1.0,
+            output: OutputStage::new(48_000.0),
             retune_wait: 0,
             fade_len: 1,
             scratch: [vec![0.0; CHUNK], vec![0.0; CHUNK]],
@@ -151,14 +156,26 @@ impl Engine {
         (engine, handle)
     }
 
-    /// Prepares for host rate `host_rate` (Hz, 22 050 to 192 000) and blocks of at most
+    /// Prepares for host rate `host_rate` (Hz, 8 000 to 768 000) and blocks of at most
     /// `max_block` samples (1 to 8192 are tested; longer blocks are split internally too):
     /// builds the voice bank for the current parameters on the calling thread (from the modal
     /// cache this takes milliseconds; a new large basis takes seconds) and starts the worker
     /// thread and the voice pool (`available_parallelism() - 1` workers; the `threads`
     /// parameter limits how many share each chunk). Main thread; allocates. Calling it again
     /// re-activates (new rate).
-    pub fn activate(&mut self, host_rate: f64, max_block: usize) -> Result<(), ParamError> {
+    ///
+    /// Any parameter set within the table's ranges activates: if the current parameters
+    /// cannot be built (a combination the models refuse), the engine builds the last model
+    /// it played (the previous bank's parameters) or, with none, the table's defaults, and
+    /// returns `Ok(Some(error))` naming what was refused; the same message is the handle's
+    /// [`last_error`](super::EngineHandle::last_error) for the editor. `Ok(None)`: the
+    /// current parameters were built. `Err`: the host configuration itself is refused (rate
+    /// outside 8-768 kHz, `max_block` 0, a thread the OS cannot start).
+    pub fn activate(
+        &mut self,
+        host_rate: f64,
+        max_block: usize,
+    ) -> Result<Option<ParamError>, ParamError> {
         check_closed("host_rate", host_rate, MIN_HOST_RATE, MAX_HOST_RATE)?;
         if max_block == 0 {
             return Err(ParamError::new("max_block", 0, "integer >= 1"));
@@ -176,16 +193,22 @@ impl Engine {
         self.retiring = None;
         self.pending_drop = [None, None, None];
         self.overflow = None;
-        let values = self.params.snapshot();
         let mut cache = ModalCache::default();
         let next = self.bank.as_ref().map_or(1, |b| b.id + 1);
-        let bank = Bank::build(&values, host_rate, &mut cache, next)?;
+        let last_good = self.bank.as_ref().map(|b| b.values);
+        let wanted = self.params.snapshot();
+        let (bank, refused) = build_playable(wanted, last_good, host_rate, &mut cache, next)?;
+        if let Ok(mut slot) = self.status.error.lock() {
+            *slot = refused.as_ref().map(|e| format!("{e}; {KEPT}"));
+        }
+        let values = bank.values;
         self.host_rate = host_rate;
         self.max_block = max_block;
         self.fade_len = ((FADE * host_rate) as usize).max(1);
+        self.output = OutputStage::new(host_rate);
         self.values = values;
         self.applied = (values, self.bend);
-        self.bank = Some(Box::new(bank));
+        self.bank = Some(bank);
         self.reset();
         let worker = Worker::spawn(WorkerSetup {
             params: self.params.clone(),
@@ -194,7 +217,8 @@ impl Engine {
             bank_tx: self.bank_tx.clone(),
             retire_rx: self.retire_rx.clone(),
             cache,
-            built_key: values.rebuild_key(),
+            // A refused parameter set is not retried until it changes.
+            built_key: wanted.rebuild_key(),
             next_id: next + 1,
         })
         .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
@@ -202,7 +226,7 @@ impl Engine {
         let pool = Pool::start(Pool::default_workers())
             .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
         self.pool = Some(pool);
-        Ok(())
+        Ok(refused)
     }
 
     /// Stops the worker thread and joins the voice pool's workers (main thread; a worker in
@@ -236,6 +260,7 @@ impl Engine {
         self.wheel = 0.5;
         self.sustain = false;
         self.gain = db_to_gain(self.values.get(ParamId::Gain));
+        self.output.reset();
         self.retune_wait = 0;
         self.tele_next = self.frame;
     }
@@ -530,6 +555,9 @@ impl Engine {
             *l *= self.gain;
             *r *= self.gain;
         }
+        let limit = self.values.index_of(ParamId::Limiter) == 1;
+        self.output
+            .process(left, right, self.values.get(ParamId::LowCut), limit);
         self.frame += len as u64;
     }
 }
@@ -542,4 +570,73 @@ impl Drop for Engine {
 
 fn db_to_gain(db: f32) -> f32 {
     10f32.powf(db / 20.0)
+}
+
+/// Builds a bank for `wanted`, or when the models refuse it, for `last_good` (the parameters
+/// of the bank that was playing) or the table's defaults: returns the bank and the refusal.
+/// Main thread (allocates). `Err` only if no candidate builds.
+fn build_playable(
+    wanted: ParamValues,
+    last_good: Option<ParamValues>,
+    host_rate: f64,
+    cache: &mut ModalCache,
+    id: u64,
+) -> Result<(Box<Bank>, Option<ParamError>), ParamError> {
+    let refused = match Bank::build(&wanted, host_rate, cache, id) {
+        Ok(bank) => return Ok((Box::new(bank), None)),
+        Err(e) => e,
+    };
+    for fallback in last_good.into_iter().chain([ParamValues::defaults()]) {
+        // Keep the current non-rebuild values (gain, tuning, ...): only the model's
+        // rebuild parameters fall back.
+        let mut v = wanted;
+        v.take_rebuild_values(&fallback);
+        if let Ok(bank) = Bank::build(&v, host_rate, cache, id) {
+            return Ok((Box::new(bank), Some(refused)));
+        }
+        if let Ok(bank) = Bank::build(&fallback, host_rate, cache, id) {
+            return Ok((Box::new(bank), Some(refused)));
+        }
+    }
+    Err(refused)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A string set the models refuse (a 1 km string: outside `string.length`'s range; the
+    /// table's ranges never allow it, so it is written around them).
+    fn refused_string() -> ParamValues {
+        let mut v = ParamValues::defaults();
+        v.0[ParamId::Model.index()] = 4.0;
+        v.0[ParamId::Modes.index()] = 16.0;
+        v.0[ParamId::Size.index()] = 1000.0;
+        v
+    }
+
+    #[test]
+    fn a_refused_set_falls_back_to_the_last_good_model_then_the_defaults() {
+        let mut cache = ModalCache::default();
+        let mut good = ParamValues::defaults();
+        good.0[ParamId::Model.index()] = 3.0;
+        good.0[ParamId::Modes.index()] = 16.0;
+        good.0[ParamId::Gain.index()] = -3.0;
+        let mut wanted = refused_string();
+        wanted.0[ParamId::Gain.index()] = -12.0;
+        let (bank, refused) = build_playable(wanted, Some(good), 48_000.0, &mut cache, 1).unwrap();
+        let refused = refused.expect("the refusal is returned");
+        assert!(refused.field.contains("length"), "{refused}");
+        // The last good model's structure with the wanted playing values.
+        assert_eq!(bank.values.rebuild_key(), good.rebuild_key());
+        assert_eq!(bank.values.get(ParamId::Gain), -12.0);
+        // With no last good model: the table's defaults.
+        let (bank, refused) = build_playable(wanted, None, 48_000.0, &mut cache, 2).unwrap();
+        assert!(refused.is_some());
+        assert_eq!(bank.kind, super::super::kinds::ModelKind::Gong);
+        // A buildable set is built as asked.
+        let (bank, refused) = build_playable(good, None, 48_000.0, &mut cache, 3).unwrap();
+        assert!(refused.is_none());
+        assert_eq!(bank.values, good);
+    }
 }

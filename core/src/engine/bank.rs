@@ -58,6 +58,8 @@ pub(crate) struct Bank {
     pub lanes: Box<Lanes>,
     /// Output scale (1 / velocity reference).
     pub norm: f64,
+    /// The parameters it was built from (the last good model when a later set is refused).
+    pub values: ParamValues,
 }
 
 impl Bank {
@@ -99,17 +101,20 @@ impl Bank {
             // is that patch, so on that grid the scale is 1.
             const POINT_WIDTH: f64 = 1e-3;
             let k_contact = v.get(ParamId::ContactStiffness) as f64;
+            let dx = length / (modes + 1) as f64;
             let (obstacle, k_contact) = if kind == ModelKind::Sitar {
+                // The grid resolves the curved bridge on the nodes it spans; one shorter than
+                // a grid spacing acts on the first node (as the tanpura's point bridge acts
+                // on the nearest node), so every bridge length builds at every mode count.
                 let bridge = StringObstacle::Sitar {
                     position: 0.0,
                     curvature: v.get(ParamId::BridgeCurvature) as f64,
                     height: 0.0,
-                    extent: v.get(ParamId::BridgePosition) as f64,
+                    extent: (v.get(ParamId::BridgePosition) as f64 * length).max(dx),
                 };
                 (bridge, k_contact)
             } else {
-                let position = v.get(ParamId::BridgePosition) as f64;
-                let dx = length / (modes + 1) as f64;
+                let position = v.get(ParamId::BridgePosition) as f64 * length;
                 let on_patch = (1..=modes)
                     .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
                     .count()
@@ -177,6 +182,7 @@ impl Bank {
             sim_r: vec![0.0; max_in],
             lanes: Lanes::new(voices_n, max_in),
             norm,
+            values: *v,
         })
     }
 

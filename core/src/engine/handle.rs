@@ -23,6 +23,9 @@ use std::time::{Duration, Instant};
 /// How long the rebuild parameters must stay unchanged before the worker builds.
 pub const DEBOUNCE: Duration = Duration::from_millis(30);
 
+/// What the engine does with a parameter set it cannot build (appended to the error).
+pub(crate) const KEPT: &str = "the last model that could be built keeps playing";
+
 /// Worker polling period.
 const POLL: Duration = Duration::from_millis(4);
 
@@ -194,7 +197,7 @@ fn build_and_send(s: &mut WorkerSetup, v: &ParamValues, stop: &AtomicBool) {
         }
         Err(e) => {
             if let Ok(mut slot) = s.status.error.lock() {
-                *slot = Some(e.to_string());
+                *slot = Some(format!("{e}; {KEPT}"));
             }
         }
     }

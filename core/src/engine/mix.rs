@@ -128,14 +128,18 @@ pub(crate) fn run_bank(
     for i in (0..n).filter(|i| queued >> i & 1 == 1) {
         match lanes.take(i) {
             Some((ok, vl, vr)) => {
+                // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
+                let v = unsafe { &mut *base.add(i) };
                 if ok {
+                    // The note's key-tracked level, outside the voice's ceiling check (which
+                    // bounds the physics, not the mix).
+                    let g = v.level as f32;
                     for k in 0..m {
-                        sl[k] += vl[k];
-                        sr[k] += vr[k];
+                        sl[k] += g * vl[k];
+                        sr[k] += g * vr[k];
                     }
                 }
-                // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
-                settle(unsafe { &mut *base.add(i) }, ok, t);
+                settle(v, ok, t);
             }
             None => t.late += 1,
         }

@@ -25,8 +25,8 @@
 //! ```
 //!
 //! - [`Engine`] (audio thread): [`Engine::new`] → ([`Engine`], [`EngineHandle`]);
-//!   [`Engine::activate`]`(host_rate, max_block)` (22.05-192 kHz; builds the first bank,
-//!   starts the worker; main thread); [`Engine::reset`]; [`Engine::process`] /
+//!   [`Engine::activate`]`(host_rate, max_block)` (8-768 kHz; builds the first bank, or the
+//!   last model that built when the parameters are refused; starts the worker; main thread); [`Engine::reset`]; [`Engine::process`] /
 //!   [`Engine::process_events`] (`&[Event]` sorted by offset); direct note calls
 //!   [`Engine::note_on`], [`Engine::note_off`], [`Engine::pitch_bend`], [`Engine::mod_wheel`],
 //!   [`Engine::sustain`]; [`Engine::latency_samples`] for the host; read-outs for tests
@@ -79,7 +79,14 @@
 //! Each bank runs at the `sim_rate` parameter (its quality) and is resampled to the host rate
 //! by a Kaiser-windowed sinc interpolator written here ([`resample`]: why not rubato is
 //! explained there); latency is its half-width, 12 zero crossings (about 0.4 ms at a 32 kHz
-//! simulation rate), reported by [`Engine::latency_samples`].
+//! simulation rate), reported by [`Engine::latency_samples`] with the output stage's.
+//!
+//! # Output stage
+//!
+//! After the output gain, at the host rate: a low cut (`low_cut`), a transparent look-ahead
+//! limiter at -0.3 dBFS (`limiter`) and a guard that bounds every sample to 0 dBFS and
+//! zeroes non-finite ones, so no setting sends a host more than full scale ([`output`]).
+//! Each note's level follows the `key_level` tracking (dB per octave from the root key).
 //!
 //! # Voices
 //!
@@ -97,6 +104,7 @@ mod handle;
 mod handover;
 mod kinds;
 mod mix;
+pub mod output;
 pub mod params;
 mod plate_bank;
 mod pool;
@@ -112,13 +120,14 @@ pub use events::{Event, EventKind, GuiCommand};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::{Material, ModelKind};
 pub use mix::SILENCE_RATIO;
+pub use output::{OutputStage, CEILING, LOOKAHEAD};
 pub use params::{
-    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES, PARAMS,
-    PARAM_COUNT, SCHEME_NAMES,
+    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES,
+    ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;
-pub use preset::{Preset, PresetValue};
+pub use preset::{legacy_bridge_fraction, Preset, PresetValue, LEGACY_BRIDGE_POSITION};
 pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
 };

@@ -68,6 +68,9 @@ pub const MODEL_NAMES: &[&str] = &[
     "tanpura",
 ];
 
+/// Names of the two values of a switch parameter (`limiter`).
+pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
+
 /// Names of [`ParamId::Material`] values (see [`Material`](super::Material)).
 pub const MATERIAL_NAMES: &[&str] = &["steel", "bronze", "brass", "aluminium", "custom"];
 
@@ -174,8 +177,8 @@ params! {
         "String inharmonicity B = pi^2 EI / (T L^2) at the root key (strings; 0: ideal string).";
     BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", r::BRIDGE_CURVATURE.play_min as f32, r::BRIDGE_CURVATURE.play_max as f32, 1.0, F, true,
         "Sitar bridge g(x) = -curvature x^2 near x = 0 (the lecture's a).";
-    BridgePosition, "bridge_position", "Bridge position", "m", 1.0e-3, 0.1, 6.0e-3, LOG, true,
-        "Tanpura: distance of the point bridge from the end; sitar: length of the curved bridge.";
+    BridgePosition, "bridge_fraction", "Bridge position", "", 1.0e-3, 0.2, 6.0e-3, LOG, true,
+        "Tanpura: distance of the point bridge from the end; sitar: length of the curved bridge; both as a fraction of the string's length.";
     ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", r::CONTACT_STIFFNESS.play_min as f32, r::CONTACT_STIFFNESS.play_max as f32, 1.0e13, LOG, true,
         "Penalty contact law K [eta]_+^alpha (strings).";
     ContactAlpha, "contact_alpha", "Contact exponent alpha", "", r::CONTACT_EXPONENT.play_min as f32, r::CONTACT_EXPONENT.play_max as f32, 1.5, F, true,
@@ -210,6 +213,12 @@ params! {
         "Quality (plates): each note keeps the transverse modes up to this frequency after its pitch scaling (at most 'modes', the CPU budget); the simulation rate follows from it.";
     Threads, "threads", "Threads", "", 0.0, 16.0, 0.0, INT, false,
         "Threads sharing the voices' work (0: every core of the machine; 1: the audio thread alone).";
+    LowCut, "low_cut", "Low cut", "Hz", 10.0, 1000.0, 20.0, LOG, false,
+        "Output high-pass (second-order Butterworth) removing sub-audio motion; 10 Hz leaves nearly everything.";
+    Limiter, "limiter", "Limiter", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES }, false,
+        "Output limiter at -0.3 dBFS (1.5 ms look-ahead, transparent below it). Off: a hard clip at 0 dBFS remains.";
+    KeyLevel, "key_level", "Level key tracking", "dB/oct", -12.0, 12.0, 0.0, F, false,
+        "Each note's output level changes by this many dB per octave above the root key (below it, the opposite), evening out the models' loudness over the keyboard.";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).
@@ -303,6 +312,17 @@ impl ParamValues {
             }
         }
         k
+    }
+
+    /// Copies from `other` every value that is part of [`Self::rebuild_key`] (the model's
+    /// structure), keeping this set's playing values (gain, tuning, damping, ...).
+    pub fn take_rebuild_values(&mut self, other: &ParamValues) {
+        let string = other.index_of(ParamId::Model) >= 3;
+        for p in PARAMS {
+            if p.rebuild || string && p.id == ParamId::Size {
+                self.0[p.id.index()] = other.0[p.id.index()];
+            }
+        }
     }
 }
 

@@ -49,6 +49,7 @@ pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
     match id {
         ParamId::Model => Some(&["gong", "cymbal", "rect-plate", "sitar", "tanpura"]),
         ParamId::Material => Some(&["steel", "bronze", "brass", "aluminium", "custom"]),
+        ParamId::Limiter => Some(&["off", "on"]),
         ParamId::Scheme => Some(&[
             "conservative",
             "conservative-exact",
@@ -57,6 +58,15 @@ pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
         ]),
         _ => None,
     }
+}
+
+/// The key under which presets and states before the bridge became a fraction of the string
+/// stored its position or extent, in metres; read as `bridge_fraction = value / size`.
+pub const LEGACY_BRIDGE_POSITION: &str = "bridge_position";
+
+/// `bridge_fraction` for a legacy bridge position of `metres` on a string `length` m long.
+pub fn legacy_bridge_fraction(metres: f64, length: f64) -> f64 {
+    metres / length
 }
 
 /// The factory presets' TOML sources, embedded at build time (`assets/presets/`).
@@ -115,7 +125,17 @@ impl Preset {
     /// The full parameter set: defaults overridden by the preset's values, each checked.
     pub fn values(&self) -> Result<ParamValues, ParamError> {
         let mut v = ParamValues::defaults();
+        let mut legacy_bridge = None;
         for (key, value) in &self.params {
+            if key == LEGACY_BRIDGE_POSITION {
+                legacy_bridge = Some(match value {
+                    PresetValue::Number(x) => *x,
+                    PresetValue::Name(n) => {
+                        return Err(ParamError::new(format!("params.{key}"), n, "a number"))
+                    }
+                });
+                continue;
+            }
             let id = ParamId::from_key(key).ok_or_else(|| {
                 ParamError::new(
                     format!("params.{key}"),
@@ -138,6 +158,19 @@ impl Preset {
             info.check(x)
                 .map_err(|e| ParamError::new(format!("params.{key}"), e.value, e.allowed))?;
             v.0[id.index()] = x;
+        }
+        if let (Some(metres), false) = (legacy_bridge, self.params.contains_key("bridge_fraction"))
+        {
+            let fraction = legacy_bridge_fraction(metres, v.get(ParamId::Size) as f64);
+            let info = ParamId::BridgePosition.info();
+            let x = info.check(fraction as f32).map_err(|e| {
+                ParamError::new(
+                    format!("params.{LEGACY_BRIDGE_POSITION}"),
+                    format!("{metres} m ({} of the string)", e.value),
+                    e.allowed,
+                )
+            })?;
+            v.0[ParamId::BridgePosition.index()] = x;
         }
         Ok(v)
     }

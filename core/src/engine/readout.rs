@@ -56,10 +56,12 @@ impl Engine {
         self.host_rate
     }
 
-    /// Latency in host samples (the resampler's half-width; report it to the host).
+    /// Latency in host samples (the resampler's half-width plus the output limiter's look-ahead;
+    /// report it to the host).
     pub fn latency_samples(&self) -> u32 {
         self.any_bank()
             .map_or(0, |b| b.latency_host().round() as u32)
+            + self.output.latency() as u32
     }
 
     /// Identifier of the voice bank in use (0 before activation; changes with every swap).

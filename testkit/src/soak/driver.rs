@@ -72,19 +72,29 @@ where
         phase = match phase {
             Phase::Idle { blocks: 0 } if late => break,
             Phase::Idle { blocks: 0 } => {
-                // Re-activation rebuilds from the current parameters: only when they built.
-                if buildable && d.chance(0.3) {
+                // Re-activation rebuilds from the current parameters, or keeps the last
+                // good model when they do not build.
+                if d.chance(0.3) {
                     // A host sample-rate change: deactivate, activate at the new rate.
                     rate = if d.chance(0.2) {
-                        d.between(22_050.0, 192_000.0).round()
+                        d.between(8_000.0, 384_000.0).round()
                     } else {
                         d.pick(&HOST_RATES)
                     };
                     max_block = d.pick(&MAX_BLOCKS);
                     e.deactivate();
                     let t = Instant::now();
-                    e.activate(rate, max_block)
+                    let refused = e
+                        .activate(rate, max_block)
                         .map_err(|err| fail(&s, format!("activation at {rate} Hz: {err}")))?;
+                    // A set the worker already refused (counted then) is refused again and
+                    // the last good model rebuilt instead; any other refusal is a failure.
+                    if let (Some(err), true) = (refused, buildable) {
+                        return Err(fail(
+                            &s,
+                            format!("activation at {rate} Hz refused a set that built: {err}"),
+                        ));
+                    }
                     s.activation_wall = s.activation_wall.max(t.elapsed());
                     s.rate_changes += 1;
                     s.note_rate(rate);

@@ -47,9 +47,10 @@ use std::time::Duration;
 pub const LEVEL_BOUND: f64 = 2.0 * 2.0 * MAX_VOICES as f64 * VOICE_CEILING;
 
 /// Host rates a re-activation picks from (Hz); one draw in five is uniform in
-/// 22 050..192 000 instead.
-pub const HOST_RATES: [f64; 7] = [
-    22_050.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 176_400.0, 192_000.0,
+/// 8 000..384 000 instead.
+pub const HOST_RATES: [f64; 10] = [
+    8_000.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 88_200.0, 96_000.0, 176_400.0, 192_000.0,
+    384_000.0,
 ];
 
 /// Maximum block sizes a re-activation picks from (the host's promise; blocks are drawn in

@@ -30,6 +30,13 @@ pub(crate) fn pitch_ratio(v: &ParamValues, key: u8, bend: f32) -> f64 {
     (v.get(ParamId::TuningA4) as f64 / 440.0) * (semis / 12.0).exp2()
 }
 
+/// Output level of `key` from the `key_level` tracking (linear gain): `key_level` dB per
+/// octave away from the root key, so 1 at the root.
+pub(crate) fn key_level_gain(v: &ParamValues, key: u8) -> f64 {
+    let octaves = (key as f64 - v.get(ParamId::RootKey) as f64) / 12.0;
+    10f64.powf(v.get(ParamId::KeyLevel) as f64 * octaves / 20.0)
+}
+
 /// Release decay rate `σ = ln(1000) / T60` (1/s): amplitude down 60 dB in `T60`.
 pub(crate) fn release_sigma(v: &ParamValues) -> f64 {
     1000f64.ln() / v.get(ParamId::ReleaseT60) as f64

@@ -28,6 +28,7 @@ mod mapping;
 mod plate;
 mod string;
 
+use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
@@ -65,6 +66,8 @@ pub(crate) struct Voice {
     pub energy: f64,
     /// Whether the coefficients need a retune before the next step.
     pub dirty: bool,
+    /// The note's output level from the `key_level` tracking (linear gain, set by `retune`).
+    pub level: f64,
 }
 
 impl Voice {
@@ -80,6 +83,7 @@ impl Voice {
             peak_energy: 0.0,
             energy: 0.0,
             dirty: false,
+            level: 1.0,
         }
     }
 
@@ -91,6 +95,7 @@ impl Voice {
     /// Re-applies the physical mapping for the current key. Returns `false` if refused.
     pub fn retune(&mut self, p: &Physics) -> bool {
         self.dirty = false;
+        self.level = key_level_gain(&p.values, self.key);
         let released = self.released();
         match &mut self.model {
             VoiceModel::Plate(pv) => pv.retune(p, self.key, released),

@@ -1,0 +1,84 @@
+//! Factory presets' output levels, as a musician meets them: at velocity 127 each preset's
+//! root key peaks between -6 and -1 dBFS, and over the keys 36 to 96 every note's peak stays
+//! within ±6 dB of the root's (the presets' `key_level` tracking evens out the models'
+//! loudness over the keyboard); at velocity 40 notes are quieter than at 127. Every render is
+//! finite and 1 s after the note-off at least 20 dB under its peak. Measured through the engine at 48 kHz with the output
+//! stage as shipped (low cut on, limiter on: its ceiling is -0.3 dBFS, so a preset relying on
+//! it would fail the -1 dBFS bound).
+
+use noether::engine::{Engine, ParamId, Preset, SharedParams};
+use std::sync::Arc;
+
+const RATE: f64 = 48_000.0;
+const BLOCK: usize = 256;
+/// Seconds rendered after the note-off. Every factory preset's release T60 is at most 2 s,
+/// so its last 0.1 s is at least 20 dB under the note's peak (the bound checked; 1 s of a
+/// 2 s T60 is 30 dB).
+const RELEASE: f64 = 1.0;
+/// The keys a musician tries (C2 to C7).
+pub const KEYS: [u8; 6] = [36, 48, 60, 72, 84, 96];
+
+/// Peak (dBFS) of one note held `seconds`, and the peak of the last 0.1 s of the
+/// [`RELEASE`] after its note-off (dBFS).
+pub fn note_peak(preset: &Preset, key: u8, vel: u8, seconds: f64) -> (f64, f64) {
+    let params = Arc::new(SharedParams::new());
+    preset.apply(&params).unwrap();
+    params.set(ParamId::Polyphony, 1.0).unwrap();
+    let (mut e, _h) = Engine::new(params);
+    assert!(e.activate(RATE, BLOCK).unwrap().is_none());
+    e.note_on(key, f32::from(vel) / 127.0);
+    // Whole blocks: the note-off falls on a block boundary.
+    let held = (seconds * RATE) as usize / BLOCK * BLOCK;
+    let n = held + (RELEASE * RATE) as usize;
+    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
+    for (k, (cl, cr)) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)).enumerate() {
+        if k * BLOCK == held {
+            e.note_off(key);
+        }
+        e.process(cl, cr);
+    }
+    assert!(l.iter().chain(&r).all(|x| x.is_finite()));
+    let peak = |a: &[f32], b: &[f32]| {
+        let p = a.iter().chain(b).fold(0.0f32, |m, x| m.max(x.abs()));
+        20.0 * f64::from(p).max(1e-12).log10()
+    };
+    let tail = n - (0.1 * RATE) as usize;
+    (peak(&l[..held], &r[..held]), peak(&l[tail..], &r[tail..]))
+}
+
+#[test]
+fn factory_presets_have_musical_levels() {
+    let mut failures = Vec::new();
+    for (stem, preset) in Preset::factory() {
+        let root = preset.values().unwrap().get(ParamId::RootKey) as u8;
+        let (root_peak, _) = note_peak(&preset, root, 127, 0.6);
+        println!("{stem}: root {root} at velocity 127 peaks at {root_peak:.1} dBFS");
+        if !(-6.0..=-1.0).contains(&root_peak) {
+            failures.push(format!("{stem}: root peak {root_peak:.1} dBFS"));
+        }
+        for key in KEYS {
+            let (loud, loud_tail) = note_peak(&preset, key, 127, 0.6);
+            let (soft, _) = note_peak(&preset, key, 40, 0.6);
+            println!(
+                "  key {key}: {loud:6.1} dBFS at 127 ({:+.1} dB re root), {soft:6.1} at 40, \
+                 after release {loud_tail:6.1}",
+                loud - root_peak
+            );
+            if (loud - root_peak).abs() > 6.0 {
+                failures.push(format!(
+                    "{stem} key {key}: {:+.1} dB re root",
+                    loud - root_peak
+                ));
+            }
+            if soft >= loud {
+                failures.push(format!("{stem} key {key}: velocity 40 not quieter"));
+            }
+            if loud_tail > loud - 20.0 {
+                failures.push(format!(
+                    "{stem} key {key}: {loud_tail:.1} dBFS 1 s after the note-off"
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
