@@ -55,7 +55,6 @@ fn quantity(id: ParamId) -> Quantity {
         Threads => Quantity::Threads,
         Density => Quantity::Plain("kg/m³"),
         DampingScale => Quantity::Plain("×"),
-        DampingA => Quantity::Plain("s^(b−1)"),
         DampingC0 => Quantity::Plain("1/s"),
         StrikeForce | Tension => Quantity::Plain("N"),
         BridgeCurvature => Quantity::Plain("1/m"),
@@ -73,7 +72,12 @@ pub fn four_significant(v: f32) -> String {
     if a == 0.0 {
         "0".to_string()
     } else if (1e-2..1e5).contains(&a) {
-        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
+        // Decimals from the magnitude after rounding to four digits, so 0.99999 reads
+        // "1.000", not "1.0000".
+        let digits = |m: f32| (3 - m.log10().floor() as i32).max(0);
+        let d = digits(a);
+        let rounded = (f64::from(a) * 10f64.powi(d)).round() / 10f64.powi(d);
+        let decimals = digits(rounded as f32) as usize;
         format!("{v:.decimals$}")
     } else {
         format!("{v:.3e}")
@@ -322,6 +326,8 @@ mod tests {
         assert_eq!(format_value(ParamId::RootKey, 60.0), "C4");
         assert_eq!(format_value(ParamId::RootKey, 69.0), "A4");
         assert_eq!(format_value(ParamId::Thickness, 1.0e-3), "1.000 mm");
+        assert_eq!(format_value(ParamId::Thickness, 0.99999e-3), "1.000 mm");
+        assert_eq!(format_value(ParamId::StrikeDuration, 0.0099999), "10.00 ms");
         assert_eq!(format_value(ParamId::Size, 0.4), "40.00 cm");
         assert_eq!(format_value(ParamId::Size, 1.2), "1.200 m");
         assert_eq!(format_value(ParamId::YoungsModulus, 2.0e11), "200.0 GPa");

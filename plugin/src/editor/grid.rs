@@ -16,9 +16,9 @@ use nice_plug::prelude::*;
 use noether_core::engine::{ParamId, ParamKind, MATERIAL_NAMES};
 
 /// Width of the label column (points).
-pub const LABEL_W: f32 = 138.0;
+pub const LABEL_W: f32 = 150.0;
 /// Width of the value text after each slider (points).
-pub const VALUE_W: f32 = 84.0;
+pub const VALUE_W: f32 = 100.0;
 /// Height of a row (points).
 const ROW_H: f32 = 22.0;
 
@@ -27,6 +27,8 @@ struct Section {
     title: &'static str,
     params: &'static [ParamId],
     open: bool,
+    /// The models it is shown for: `Some(false)` plates only, `Some(true)` strings only.
+    strings: Option<bool>,
 }
 
 const SECTIONS: [Section; 7] = {
@@ -48,6 +50,7 @@ const SECTIONS: [Section; 7] = {
                 Inharmonicity,
             ],
             open: true,
+            strings: None,
         },
         Section {
             title: "Mallet",
@@ -59,16 +62,19 @@ const SECTIONS: [Section; 7] = {
                 VelocityCurve,
             ],
             open: true,
+            strings: Some(false),
         },
         Section {
             title: "Pluck",
             params: &[PluckPosition, PluckAmplitude, VelocityCurve],
             open: true,
+            strings: Some(true),
         },
         Section {
             title: "Damping",
             params: &[DampingScale, ReleaseT60, DampingA, DampingB, DampingC0],
             open: true,
+            strings: None,
         },
         Section {
             title: "Bridge",
@@ -79,6 +85,7 @@ const SECTIONS: [Section; 7] = {
                 ContactAlpha,
             ],
             open: true,
+            strings: None,
         },
         Section {
             title: "Pickups and output",
@@ -94,6 +101,7 @@ const SECTIONS: [Section; 7] = {
                 ModWheelDepth,
             ],
             open: false,
+            strings: None,
         },
         Section {
             title: "Quality",
@@ -107,6 +115,7 @@ const SECTIONS: [Section; 7] = {
                 Threads,
             ],
             open: false,
+            strings: None,
         },
     ]
 };
@@ -127,6 +136,17 @@ pub fn relevant(id: ParamId, model: usize, material: usize) -> bool {
         | ContactAlpha | PluckPosition | PluckAmplitude => string,
         BridgeCurvature => model == 3,
         _ => true,
+    }
+}
+
+/// The label of a row: the host's name, with symbols for the long physics names.
+fn short_name(id: ParamId) -> &'static str {
+    match id {
+        ParamId::ContactAlpha => "Contact exponent α",
+        ParamId::LinearDensity => "Linear density μ",
+        ParamId::YoungsModulus => "Young's modulus E",
+        ParamId::Poisson => "Poisson ratio ν",
+        _ => id.info().name,
     }
 }
 
@@ -263,6 +283,12 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
     ui.spacing_mut().slider_width = slider_w;
     ui.spacing_mut().interact_size.x = VALUE_W;
     for section in &SECTIONS {
+        if section
+            .strings
+            .is_some_and(|strings| strings != (model >= 3))
+        {
+            continue;
+        }
         let rows: Vec<ParamId> = section
             .params
             .iter()
@@ -283,7 +309,7 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
                             Layout::left_to_right(egui::Align::Center),
                             |ui| {
                                 ui.set_min_width(LABEL_W);
-                                ui.add(egui::Label::new(info.name).truncate())
+                                ui.add(egui::Label::new(short_name(id)).truncate())
                                     .on_hover_text(format!("{}\n{}", info.name, info.help));
                             },
                         );

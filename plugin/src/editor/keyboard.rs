@@ -255,10 +255,10 @@ impl Keyboard {
         let octaves = ((width / (7.0 * 16.0)) as i32).clamp(2, 7);
         self.first = self.first.clamp(LOWEST, HIGHEST - 12 * octaves);
         ui.horizontal(|ui| {
-            if ui.small_button("◀ octave").clicked() {
+            if ui.small_button("octave −").clicked() {
                 self.first = (self.first - 12).max(LOWEST);
             }
-            if ui.small_button("octave ▶").clicked() {
+            if ui.small_button("octave +").clicked() {
                 self.first = (self.first + 12).min(HIGHEST - 12 * octaves);
             }
             ui.label(

@@ -50,6 +50,8 @@ pub struct EditorApp {
     keyboard: Keyboard,
     /// Recent total energies of the voices for the meters' strip chart.
     history: EnergyHistory,
+    /// Height of the live views' column in the last frame (points), which sizes the plots.
+    views_h: f32,
 }
 
 impl EditorApp {
@@ -69,6 +71,7 @@ impl EditorApp {
             watched: None,
             keyboard: Keyboard::default(),
             history: EnergyHistory::default(),
+            views_h: 400.0,
         }
     }
 
@@ -215,6 +218,9 @@ impl EditorApp {
         let width = ui.available_width();
         ui.label(RichText::new("Energy per voice").strong());
         meters::energy_meters(ui, &self.telemetry, &self.history, width);
+        // The plots share what the meters leave (the titles and gaps take about 60 points).
+        let rest = self.views_h - (ui.min_rect().height() + 60.0);
+        let spectrum_h = (rest / 1.7).clamp(110.0, 320.0);
         ui.add_space(6.0);
         ui.horizontal(|ui| {
             ui.label(RichText::new("Modes and displacement of").strong());
@@ -233,7 +239,7 @@ impl EditorApp {
             &self.telemetry.mode_freq,
             &self.telemetry.mode_amplitude,
             f_max,
-            Vec2::new(width, 120.0),
+            Vec2::new(width, spectrum_h),
         );
         ui.add_space(4.0);
         let model = self.params.slot(ParamId::Model).value() as usize;
@@ -246,7 +252,7 @@ impl EditorApp {
             ui,
             &self.telemetry.displacement,
             label,
-            Vec2::new(width, 90.0),
+            Vec2::new(width, 0.7 * spectrum_h),
         );
     }
 }
@@ -281,7 +287,7 @@ impl NiceEguiApp for EditorApp {
             });
             ui.separator();
             let area = ui.available_rect_before_wrap();
-            let keys_h = 96.0;
+            let keys_h = (0.15 * area.height()).clamp(72.0, 130.0);
             let keyboard_h = keys_h + 26.0;
             let middle_bottom = (area.bottom() - keyboard_h - 8.0).max(area.top() + 60.0);
             let left_w = (0.5 * area.width())
@@ -303,6 +309,7 @@ impl NiceEguiApp for EditorApp {
                     .auto_shrink([false, false])
                     .show(ui, |ui| grid::parameter_panels(ui, &params, &setter));
             });
+            self.views_h = right.height();
             ui.scope_builder(egui::UiBuilder::new().max_rect(right), |ui| {
                 egui::ScrollArea::vertical()
                     .id_salt("views")

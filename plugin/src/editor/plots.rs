@@ -157,13 +157,18 @@ pub fn displacement(ui: &mut Ui, u: &[f32], label: &str, size: Vec2) {
             Stroke::new(1.5, Color32::from_rgb(120, 200, 255)),
         );
     }
+    let silent = scale <= 1e-12;
     painter.text(
         rect.left_top() + Vec2::new(4.0, 2.0),
         Align2::LEFT_TOP,
-        format!(
-            "{label} · full scale ±{}",
-            crate::format::format_value(noether_core::engine::ParamId::PluckAmplitude, scale)
-        ),
+        if silent {
+            format!("{label} · at rest")
+        } else {
+            format!(
+                "{label} · full scale ±{}",
+                crate::format::format_value(noether_core::engine::ParamId::PluckAmplitude, scale)
+            )
+        },
         small_font(),
         Color32::GRAY,
     );
