@@ -7,7 +7,7 @@
 //! lengths chosen by magnitude, GPa for Young's modulus, degrees for angles, % for fractions,
 //! Hz / kHz, dB, ms / s. The parser reads what the formatter writes, other units of the same
 //! quantity ("30 deg", "0.5 rad", "2 m"), and plain numbers, which it takes in the parameter's
-//! [`typing_unit`] (the unit its default value is shown in). Any thread; allocates the string.
+//! [`typing_unit`] (the engine's unit, degrees for angles). Any thread; allocates the string.
 
 use noether_core::engine::ParamId;
 
@@ -177,16 +177,21 @@ pub fn format_value(id: ParamId, value: f32) -> String {
     }
 }
 
-/// The unit a plain number typed for parameter `id` is read in (the unit its default value
-/// is shown in; empty for unitless parameters).
+/// The unit a plain number typed for parameter `id` is read in: the engine table's unit (m,
+/// Pa, s, Hz, kg/m; fractions as fractions, so presets, hosts and scripts can type what they
+/// store), except angles, read in degrees (a player never types radians). Empty: the number
+/// is taken as it is.
 pub fn typing_unit(id: ParamId) -> &'static str {
-    let info = id.info();
-    let shown = format_value(id, info.default);
-    UNITS
-        .iter()
-        .filter(|(u, _)| shown.ends_with(u))
-        .max_by_key(|(u, _)| u.len())
-        .map_or("", |(u, _)| u)
+    match quantity(id) {
+        Quantity::Length => "m",
+        Quantity::Modulus => "Pa",
+        Quantity::Angle => "°",
+        Quantity::Frequency => "Hz",
+        Quantity::Time => "s",
+        Quantity::LinearDensity => "kg/m",
+        Quantity::Plain(u) => u,
+        Quantity::Percent | Quantity::Key | Quantity::Count(..) | Quantity::Threads => "",
+    }
 }
 
 /// Unit texts the parser accepts, with the factor to the engine's unit (the longest match
@@ -355,10 +360,15 @@ mod tests {
         ));
         assert!(close(parse_value(ParamId::StrikeAngle, "30"), 30.0 * deg));
         assert!(close(parse_value(ParamId::StrikeAngle, "0.5 rad"), 0.5));
-        assert!(close(parse_value(ParamId::Thickness, "2"), 2.0e-3));
+        assert!(close(parse_value(ParamId::Thickness, "2 mm"), 2.0e-3));
+        assert!(close(parse_value(ParamId::Thickness, "0.002"), 2.0e-3));
+        assert!(close(parse_value(ParamId::StrikeRadius, "0.5"), 0.5));
+        assert!(close(parse_value(ParamId::StrikeRadius, "50%"), 0.5));
         assert!(close(parse_value(ParamId::Thickness, "0.2 cm"), 2.0e-3));
         assert!(close(parse_value(ParamId::Size, "1.5 m"), 1.5));
-        assert!(close(parse_value(ParamId::YoungsModulus, "70"), 7.0e10));
+        assert!(close(parse_value(ParamId::YoungsModulus, "70 GPa"), 7.0e10));
+        assert!(close(parse_value(ParamId::YoungsModulus, "7e10"), 7.0e10));
+        assert!(close(parse_value(ParamId::SimRate, "8000"), 8000.0));
         assert!(close(parse_value(ParamId::StrikeDuration, "5 ms"), 5.0e-3));
         assert!(close(parse_value(ParamId::StrikeDuration, "0.5 s"), 0.5));
         assert!(close(parse_value(ParamId::SimRate, "44.1 kHz"), 44_100.0));
