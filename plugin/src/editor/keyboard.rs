@@ -418,7 +418,9 @@ mod tests {
     /// Press, hold for 2 s, glide to another key, release outside the keyboard: one note-on
     /// per key, a note-off for the first key at the glide and for the second at the release,
     /// nothing left sounding. A broken keyboard that ignored the release would fail the last
-    /// check (the mouse note would stay set).
+    /// check (the mouse note would stay set); a click-only keyboard fails the first (egui lets
+    /// go of a click-only press after its 0.8 s `max_click_duration`, so the note-off came
+    /// while the button was still held: checked by hand with `Sense::click()`).
     #[test]
     fn press_glide_release_sends_matching_note_offs() {
         let ctx = egui::Context::default();

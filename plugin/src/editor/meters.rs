@@ -165,9 +165,8 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
         } else {
             String::new()
         };
-        painter.text(
-            full.right_center() - Vec2::new(4.0, 0.0),
-            Align2::RIGHT_CENTER,
+        // On a dark plate of its own, so it reads over any bar colour and the tick.
+        let galley = painter.layout_no_wrap(
             format!(
                 "{} modes{in_plane} to {:.1} kHz · {db:.0} dB",
                 m.n_phi,
@@ -176,6 +175,12 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
             font.clone(),
             Color32::WHITE,
         );
+        let text = Align2::RIGHT_CENTER.anchor_size(
+            full.right_center() - Vec2::new(3.0, 0.0),
+            galley.size(),
+        );
+        painter.rect_filled(text.expand(2.0), 2.0, Color32::from_black_alpha(200));
+        painter.galley(text.min, galley, Color32::WHITE);
     }
     let footer = bars.bottom() + 0.5 * ROW_H;
     let footer_text = match active.len() {
