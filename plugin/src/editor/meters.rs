@@ -175,10 +175,8 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
             font.clone(),
             Color32::WHITE,
         );
-        let text = Align2::RIGHT_CENTER.anchor_size(
-            full.right_center() - Vec2::new(3.0, 0.0),
-            galley.size(),
-        );
+        let text = Align2::RIGHT_CENTER
+            .anchor_size(full.right_center() - Vec2::new(3.0, 0.0), galley.size());
         painter.rect_filled(text.expand(2.0), 2.0, Color32::from_black_alpha(200));
         painter.galley(text.min, galley, Color32::WHITE);
     }
