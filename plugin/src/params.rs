@@ -250,6 +250,44 @@ mod tests {
         }
     }
 
+    /// The host sees the editor's text: every parameter's nice-plug text at its default is
+    /// `format::format_value` of the default (exact strings; enumerations show their names),
+    /// and the host's text entry reads it back to the same normalised value within 5e-4 of
+    /// the travel (four significant digits round by at most 5e-4 of the value, at most 5e-4
+    /// of a linear travel from 0; "143.2°" for 2.5 rad is 1.1e-4 of the travel off).
+    #[test]
+    fn hosts_show_the_editors_text() {
+        let p = NoetherParams::default();
+        for info in PARAMS {
+            let (text, back, n) = match p.slot(info.id) {
+                Slot::Float(f) => {
+                    let n = f.preview_normalized(info.default);
+                    let t = f.normalized_value_to_string(n, true);
+                    (t.clone(), f.string_to_normalized_value(&t), n)
+                }
+                Slot::Int(i) => {
+                    let n = i.preview_normalized(info.default as i32);
+                    let t = i.normalized_value_to_string(n, true);
+                    (t.clone(), i.string_to_normalized_value(&t), n)
+                }
+            };
+            if !matches!(info.kind, ParamKind::Enum { .. }) {
+                assert_eq!(
+                    text,
+                    crate::format::format_value(info.id, info.default),
+                    "{}",
+                    info.key
+                );
+            }
+            let back = back.unwrap_or_else(|| panic!("{}: cannot read {text:?}", info.key));
+            assert!(
+                (back - n).abs() < 5e-4,
+                "{}: {text:?} -> {back} vs {n}",
+                info.key
+            );
+        }
+    }
+
     /// Syncing writes every value into the engine's atomics, clamped and accepted.
     #[test]
     fn sync_copies_values() {
