@@ -14,6 +14,7 @@
 //! on the host's main and GUI threads.
 
 pub mod editor;
+pub mod format;
 pub mod link;
 pub mod midi;
 pub mod params;

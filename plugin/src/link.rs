@@ -41,7 +41,7 @@ impl EngineLink {
         }
     }
 
-    /// Sends a note event from the editor's audition button (applied at the audio thread's
+    /// Sends a note event from the editor's keyboard (applied at the audio thread's
     /// next block start). GUI thread.
     pub fn note(&self, kind: EventKind) {
         if let Ok(mut h) = self.handle.lock() {

@@ -8,6 +8,7 @@
 //! nice-plug); the audio thread copies them into the engine's [`SharedParams`] at the start of
 //! every (sample-accurately split) block in [`NoetherParams::sync_to_engine`].
 
+use crate::format::{format_value, parse_value};
 use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
@@ -36,27 +37,17 @@ impl Slot {
 /// The skew factor that puts the geometric mean of `[min, max]` at the middle of the control,
 /// so a range spanning decades gets about equal travel per decade near the middle
 /// (nice-plug has no logarithmic range; `FloatRange::Skewed` maps `n = t^factor` with `t` the
-/// linear fraction).
+/// linear fraction). This is what hosts' generic controls and automation lanes use. A power
+/// law matches a logarithm only at this one point: over the 13 decades of the contact
+/// stiffness (factor 0.046) the first 16 % of travel covers 1000 to 1000.1, and over the 3.5
+/// decades of the release T60 the first 10 % covers 0.0200 to 0.0201 s. The editor's own
+/// sliders therefore map their travel logarithmically themselves (see `editor::grid`).
 fn log_like_skew(min: f32, max: f32) -> f32 {
     let min = f64::from(min);
     let max = f64::from(max);
     let mid = (min * max).sqrt();
     let t = (mid - min) / (max - min);
     (0.5f64.ln() / t.ln()) as f32
-}
-
-/// `v` with four significant digits: fixed notation from 0.01 to 99 999, scientific outside
-/// (a relative rounding of at most 5e-4, which the test host's read-back check allows for).
-pub fn four_significant(v: f32) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".to_string()
-    } else if (1e-2..1e5).contains(&a) {
-        let decimals = (3 - a.log10().floor() as i32).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.3e}")
-    }
 }
 
 fn float_slot(info: &ParamInfo, log: bool) -> FloatParam {
@@ -72,19 +63,10 @@ fn float_slot(info: &ParamInfo, log: bool) -> FloatParam {
             max: info.max,
         }
     };
-    let unit = info.unit;
+    let id = info.id;
     FloatParam::new(info.name, info.default, range)
-        .with_value_to_string(Arc::new(move |v| {
-            let number = four_significant(v);
-            if unit.is_empty() {
-                number
-            } else {
-                format!("{number} {unit}")
-            }
-        }))
-        .with_string_to_value(Arc::new(|s| {
-            s.split_whitespace().next().and_then(|t| t.parse().ok())
-        }))
+        .with_value_to_string(Arc::new(move |v| format_value(id, v)))
+        .with_string_to_value(Arc::new(move |s| parse_value(id, s)))
 }
 
 fn int_slot(info: &ParamInfo) -> IntParam {
@@ -107,14 +89,13 @@ fn int_slot(info: &ParamInfo) -> IntParam {
                     .map(|i| i as i32)
                     .or_else(|| s.trim().parse().ok())
             })),
-        _ if !info.unit.is_empty() => {
-            let unit = info.unit;
-            p.with_value_to_string(Arc::new(move |v| format!("{v} {unit}")))
-                .with_string_to_value(Arc::new(|s| {
-                    s.split_whitespace().next().and_then(|t| t.parse().ok())
+        _ => {
+            let id = info.id;
+            p.with_value_to_string(Arc::new(move |v| format_value(id, v as f32)))
+                .with_string_to_value(Arc::new(move |s| {
+                    parse_value(id, s).map(|v| v.round() as i32)
                 }))
         }
-        _ => p,
     }
 }
 
@@ -140,7 +121,7 @@ impl Default for NoetherParams {
             .collect();
         Self {
             slots,
-            editor_state: EguiEditorState::from_size(LogicalSize::new(960.0, 660.0), 1.0),
+            editor_state: EguiEditorState::from_size(LogicalSize::new(1040.0, 720.0), 1.0),
             preset_name: RwLock::new(String::new()),
         }
     }
@@ -269,14 +250,42 @@ mod tests {
         }
     }
 
+    /// The host sees the editor's text: every parameter's nice-plug text at its default is
+    /// `format::format_value` of the default (exact strings; enumerations show their names),
+    /// and the host's text entry reads it back to the same normalised value within 5e-4 of
+    /// the travel (four significant digits round by at most 5e-4 of the value, at most 5e-4
+    /// of a linear travel from 0; "143.2°" for 2.5 rad is 1.1e-4 of the travel off).
     #[test]
-    fn four_significant_digits() {
-        assert_eq!(four_significant(180.5), "180.5");
-        assert_eq!(four_significant(2.0), "2.000");
-        assert_eq!(four_significant(0.0123), "0.01230");
-        assert_eq!(four_significant(1.0e13), "1.000e13");
-        assert_eq!(four_significant(1.0e-3), "1.000e-3");
-        assert_eq!(four_significant(-6.0), "-6.000");
+    fn hosts_show_the_editors_text() {
+        let p = NoetherParams::default();
+        for info in PARAMS {
+            let (text, back, n) = match p.slot(info.id) {
+                Slot::Float(f) => {
+                    let n = f.preview_normalized(info.default);
+                    let t = f.normalized_value_to_string(n, true);
+                    (t.clone(), f.string_to_normalized_value(&t), n)
+                }
+                Slot::Int(i) => {
+                    let n = i.preview_normalized(info.default as i32);
+                    let t = i.normalized_value_to_string(n, true);
+                    (t.clone(), i.string_to_normalized_value(&t), n)
+                }
+            };
+            if !matches!(info.kind, ParamKind::Enum { .. }) {
+                assert_eq!(
+                    text,
+                    crate::format::format_value(info.id, info.default),
+                    "{}",
+                    info.key
+                );
+            }
+            let back = back.unwrap_or_else(|| panic!("{}: cannot read {text:?}", info.key));
+            assert!(
+                (back - n).abs() < 5e-4,
+                "{}: {text:?} -> {back} vs {n}",
+                info.key
+            );
+        }
     }
 
     /// Syncing writes every value into the engine's atomics, clamped and accepted.

@@ -1,19 +1,28 @@
-//! The egui editor (GUI thread only): a top bar with the preset menu, CPU load and the model
-//! state (a clear "rebuilding model" banner while the worker builds a voice bank), parameter
-//! panels on the left, and live views on the right: per-voice energy meters, the mode spectrum
-//! and the displacement of the watched voice.
+//! The egui editor (GUI thread only), laid out for players: a top bar with the preset menu,
+//! CPU load and the model state (a clear "rebuilding model" banner while the worker builds a
+//! voice bank), four macro controls (hardness, brightness, decay, size), the parameter
+//! sections on the left ([`grid`]), live views on the right (energy meters on one dB scale
+//! with a strip chart, the mode spectrum, the displacement of the watched voice) and an
+//! on-screen keyboard across the bottom, also played from the computer keyboard.
 //!
 //! Data flow: parameters go through nice-plug's `ParamSetter` (so hosts record automation);
-//! telemetry frames come from the engine through [`EngineLink`]; preset loads set every
-//! parameter through the setter as one gesture per parameter.
+//! telemetry frames come from the engine through [`EngineLink`]; notes from the keyboard go
+//! through the engine's GUI command queue; preset loads set every parameter through the setter
+//! as one gesture per parameter.
 
-mod panels;
+pub mod grid;
+pub mod keyboard;
+pub mod macros;
+pub mod meters;
 mod plots;
 
+use crate::format::plural;
 use crate::link::EngineLink;
 use crate::params::NoetherParams;
 use crate::presets::FactoryPreset;
 use egui::{Color32, RichText, Vec2};
+use keyboard::Keyboard;
+use meters::EnergyHistory;
 use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
@@ -37,8 +46,12 @@ pub struct EditorApp {
     build_error: Option<String>,
     /// Voice slot chosen for the spectrum and displacement views (`None`: the loudest).
     watched: Option<u8>,
-    /// Key sounding from the audition button while it is held (released with the button).
-    auditioning: Option<u8>,
+    /// The on-screen keyboard and the computer keys' state.
+    keyboard: Keyboard,
+    /// Recent total energies of the voices for the meters' strip chart.
+    history: EnergyHistory,
+    /// Height of the live views' column in the last frame (points), which sizes the plots.
+    views_h: f32,
 }
 
 impl EditorApp {
@@ -56,7 +69,9 @@ impl EditorApp {
             telemetry: Telemetry::default(),
             build_error: None,
             watched: None,
-            auditioning: None,
+            keyboard: Keyboard::default(),
+            history: EnergyHistory::default(),
+            views_h: 400.0,
         }
     }
 
@@ -66,60 +81,50 @@ impl EditorApp {
         };
         for info in noether_core::engine::PARAMS {
             let v = preset.values.get(info.id);
-            panels::set_slot(setter, self.params.slot(info.id), v);
+            grid::set_slot(setter, self.params.slot(info.id), v);
         }
         if let Ok(mut n) = self.params.preset_name.write() {
             n.clone_from(&preset.name);
         }
     }
 
+    /// The factory-preset menu (its own function so a preset bar can take its place).
+    fn preset_menu(&mut self, ui: &mut egui::Ui, setter: &ParamSetter) {
+        let current = self
+            .params
+            .preset_name
+            .read()
+            .map(|n| n.clone())
+            .unwrap_or_default();
+        let mut chosen = None;
+        egui::ComboBox::from_id_salt("preset")
+            .width(220.0)
+            .selected_text(if current.is_empty() {
+                "factory presets".to_string()
+            } else {
+                current
+            })
+            .show_ui(ui, |ui| {
+                for (i, p) in self.presets.iter().enumerate() {
+                    if ui
+                        .selectable_label(false, &p.name)
+                        .on_hover_text(&p.description)
+                        .clicked()
+                    {
+                        chosen = Some(i);
+                    }
+                }
+            });
+        if let Some(i) = chosen {
+            self.load_preset(i, setter);
+        }
+    }
+
     fn top_bar(&mut self, ui: &mut egui::Ui, setter: &ParamSetter) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.heading("Noether");
             ui.separator();
-            let current = self
-                .params
-                .preset_name
-                .read()
-                .map(|n| n.clone())
-                .unwrap_or_default();
-            let mut chosen = None;
-            egui::ComboBox::from_id_salt("preset")
-                .width(220.0)
-                .selected_text(if current.is_empty() {
-                    "factory presets".to_string()
-                } else {
-                    current
-                })
-                .show_ui(ui, |ui| {
-                    for (i, p) in self.presets.iter().enumerate() {
-                        if ui
-                            .selectable_label(false, &p.name)
-                            .on_hover_text(&p.description)
-                            .clicked()
-                        {
-                            chosen = Some(i);
-                        }
-                    }
-                });
-            if let Some(i) = chosen {
-                self.load_preset(i, setter);
-            }
-            ui.separator();
-            // The load of every thread working on the audio, as a fraction of the threads
-            // sharing the voices (1: all of them busy all the time).
-            let t = &self.telemetry;
-            plots::cpu_bar(ui, t.cpu_load / f32::from(t.threads.max(1)), 130.0);
-            ui.label(
-                RichText::new(format!(
-                    "{:.2} cores on {} threads · peak {:.0} % · {} late",
-                    t.cpu_load,
-                    t.threads,
-                    100.0 * t.cpu_peak,
-                    t.late_jobs
-                ))
-                .small(),
-            );
+            self.preset_menu(ui, setter);
             ui.separator();
             if self.telemetry.rebuilding {
                 ui.spinner();
@@ -132,13 +137,26 @@ impl EditorApp {
                 let model = self.params.slot(ParamId::Model).value() as usize;
                 ui.label(
                     RichText::new(format!(
-                        "{} ready, {:.0} Hz simulation",
+                        "{} ready · {:.1} kHz simulation",
                         MODEL_NAMES.get(model).copied().unwrap_or("model"),
-                        self.telemetry.sim_rate
+                        self.telemetry.sim_rate / 1000.0
                     ))
                     .color(Color32::from_rgb(120, 220, 120)),
                 );
             }
+            ui.separator();
+            // The load of every thread working on the audio, as a fraction of the threads
+            // sharing the voices (1: all of them busy all the time).
+            let t = &self.telemetry;
+            plots::cpu_bar(ui, t.cpu_load / f32::from(t.threads.max(1)), 110.0).on_hover_text(
+                format!(
+                    "{:.2} cores busy on {} · peak block {:.0} % · {} late",
+                    t.cpu_load,
+                    plural(usize::from(t.threads), "thread", "threads"),
+                    100.0 * t.cpu_peak,
+                    plural(t.late_jobs as usize, "job", "jobs"),
+                ),
+            );
         });
         if let Some(e) = &self.build_error {
             ui.colored_label(
@@ -146,40 +164,34 @@ impl EditorApp {
                 format!("model build refused: {e}"),
             );
         }
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let t = &self.telemetry;
-            ui.label(format!("voices {}", t.active_voices));
+            let active = t.voices.iter().filter(|v| v.active).count();
+            ui.label(format!("{} sounding", plural(active, "voice", "voices")));
             ui.separator();
-            ui.label(format!("out peak L {:.2} R {:.2}", t.peak[0], t.peak[1]));
+            let db = |p: f32| {
+                if p > 0.0 {
+                    format!("{:+.1} dB", 20.0 * p.log10())
+                } else {
+                    "-inf dB".to_string()
+                }
+            };
+            ui.label(format!("out peak L {} R {}", db(t.peak[0]), db(t.peak[1])));
             ui.separator();
-            ui.label(format!("Newton cap hits {}", t.newton_cap_hits));
-            ui.separator();
-            ui.label(format!("diverged voices {}", t.diverged));
+            ui.label(format!(
+                "{} · {}",
+                plural(
+                    t.newton_cap_hits as usize,
+                    "Newton cap hit",
+                    "Newton cap hits"
+                ),
+                plural(t.diverged as usize, "diverged voice", "diverged voices"),
+            ));
             ui.separator();
             if ui.button("panic (all sound off)").clicked() {
                 self.link.all_sound_off();
             }
-            ui.separator();
-            self.audition(ui);
         });
-    }
-
-    /// "Hold to play": a note at the root key (velocity 0.8) while the button is held, so the
-    /// standalone can be played without a MIDI device.
-    fn audition(&mut self, ui: &mut egui::Ui) {
-        let held = audition_button(ui).is_pointer_button_down_on();
-        match (held, self.auditioning) {
-            (true, None) => {
-                let key = self.params.slot(ParamId::RootKey).value().clamp(0.0, 127.0) as u8;
-                self.link.note(EventKind::NoteOn { key, velocity: 0.8 });
-                self.auditioning = Some(key);
-            }
-            (false, Some(key)) => {
-                self.link.note(EventKind::NoteOff { key });
-                self.auditioning = None;
-            }
-            _ => {}
-        }
     }
 
     fn watch_selector(&mut self, ui: &mut egui::Ui) {
@@ -205,40 +217,13 @@ impl EditorApp {
     fn live_views(&mut self, ui: &mut egui::Ui) {
         let width = ui.available_width();
         ui.label(RichText::new("Energy per voice").strong());
-        let voices: Vec<(String, [f32; 4])> = self
-            .telemetry
-            .voices
-            .iter()
-            .enumerate()
-            .filter(|(_, v)| v.active)
-            .map(|(i, v)| {
-                let e = v.energy;
-                (
-                    format!(
-                        "#{i} key {}{} · {} modes{} to {:.1} kHz",
-                        v.key,
-                        if v.held { "" } else { " rel." },
-                        v.model.n_phi,
-                        if v.model.n_psi > 0 {
-                            format!(" + {} in-plane", v.model.n_psi)
-                        } else {
-                            String::new()
-                        },
-                        v.model.top_mode_hz / 1000.0
-                    ),
-                    [
-                        e.kinetic as f32,
-                        e.linear as f32,
-                        e.nonlinear as f32,
-                        e.total() as f32,
-                    ],
-                )
-            })
-            .collect();
-        plots::energy_meters(ui, &voices, width);
+        meters::energy_meters(ui, &self.telemetry, &self.history, width);
+        // The plots share what the meters leave (the titles and gaps take about 60 points).
+        let rest = self.views_h - (ui.min_rect().height() + 60.0);
+        let spectrum_h = (rest / 1.7).clamp(110.0, 320.0);
         ui.add_space(6.0);
         ui.horizontal(|ui| {
-            ui.label(RichText::new("Mode spectrum and displacement of").strong());
+            ui.label(RichText::new("Modes and displacement of").strong());
             self.watch_selector(ui);
         });
         let f_max = self
@@ -254,33 +239,22 @@ impl EditorApp {
             &self.telemetry.mode_freq,
             &self.telemetry.mode_amplitude,
             f_max,
-            Vec2::new(width, 120.0),
+            Vec2::new(width, spectrum_h),
         );
-        ui.add_space(6.0);
+        ui.add_space(4.0);
         let model = self.params.slot(ParamId::Model).value() as usize;
-        let (title, label) = match model {
-            0 | 1 => ("Displacement along a diameter", "plate"),
-            2 => ("Displacement along the diagonal", "plate"),
-            _ => ("Displacement along the string", "string"),
+        let label = match model {
+            0 | 1 => "plate, along a diameter",
+            2 => "plate, along the diagonal",
+            _ => "string, along its length",
         };
-        ui.label(RichText::new(title).strong());
         plots::displacement(
             ui,
             &self.telemetry.displacement,
             label,
-            Vec2::new(width, 130.0),
+            Vec2::new(width, 0.7 * spectrum_h),
         );
     }
-}
-
-/// The audition button. It senses drags as well as clicks: egui forgets a press on a
-/// click-only widget once it has lasted `max_click_duration` (0.8 s) or moved a few points, so
-/// `is_pointer_button_down_on` of a plain button turns false while the button is still held,
-/// which released the note (the voice list showed "rel." under a held button). A drag-sensing
-/// widget keeps the press until the pointer button is released. GUI thread.
-fn audition_button(ui: &mut egui::Ui) -> egui::Response {
-    ui.add(egui::Button::new("hold to play").sense(egui::Sense::click_and_drag()))
-        .on_hover_text("plays the root key at velocity 0.8 while held")
 }
 
 impl NiceEguiApp for EditorApp {
@@ -296,106 +270,74 @@ impl NiceEguiApp for EditorApp {
 
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut Frame) {
         self.build_error = self.link.latest_telemetry(&mut self.telemetry);
+        let now = ui.input(|i| i.time);
+        self.history.push(&self.telemetry, now);
         let Some(gui) = self.gui.clone() else {
             return;
         };
         let setter = gui.param_setter();
+        let link = self.link.clone();
+        let mut send = |e: EventKind| link.note(e);
+        self.keyboard.computer_keys(ui, &mut send);
         egui::Frame::default().inner_margin(8.0).show(ui, |ui| {
             self.top_bar(ui, &setter);
+            ui.horizontal_wrapped(|ui| {
+                let w = ((ui.available_width() - 4.0 * 90.0) / 4.0).clamp(60.0, 150.0);
+                macros::macro_row(ui, &self.params, &setter, w);
+            });
             ui.separator();
+            let area = ui.available_rect_before_wrap();
+            let keys_h = (0.15 * area.height()).clamp(72.0, 130.0);
+            let keyboard_h = keys_h + 26.0;
+            let middle_bottom = (area.bottom() - keyboard_h - 8.0).max(area.top() + 60.0);
+            let left_w = (0.5 * area.width())
+                .clamp(300.0, 470.0)
+                .min(area.width() * 0.6);
+            let gap = 10.0;
+            let left =
+                egui::Rect::from_min_max(area.min, egui::pos2(area.left() + left_w, middle_bottom));
+            let right = egui::Rect::from_min_max(
+                egui::pos2(left.right() + gap, area.top()),
+                egui::pos2(area.right(), middle_bottom),
+            );
+            let keys =
+                egui::Rect::from_min_max(egui::pos2(area.left(), middle_bottom + 8.0), area.max);
             let params = self.params.clone();
-            ui.columns(2, |cols| {
+            ui.scope_builder(egui::UiBuilder::new().max_rect(left), |ui| {
                 egui::ScrollArea::vertical()
                     .id_salt("params")
                     .auto_shrink([false, false])
-                    .show(&mut cols[0], |ui| {
-                        panels::parameter_panels(ui, &params, &setter)
-                    });
-                self.live_views(&mut cols[1]);
+                    .show(ui, |ui| grid::parameter_panels(ui, &params, &setter));
             });
+            self.views_h = right.height();
+            ui.scope_builder(egui::UiBuilder::new().max_rect(right), |ui| {
+                egui::ScrollArea::vertical()
+                    .id_salt("views")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| self.live_views(ui));
+            });
+            let sounding: Vec<(u8, bool)> = self
+                .telemetry
+                .voices
+                .iter()
+                .filter(|v| v.active)
+                .map(|v| (v.key, v.held))
+                .collect();
+            ui.scope_builder(egui::UiBuilder::new().max_rect(keys), |ui| {
+                self.keyboard.show(ui, keys_h, &sounding, &mut send);
+            });
+            ui.advance_cursor_after_rect(area);
         });
         // Live views: redraw about 30 times a second while the window is open.
         ui.ctx().request_repaint_after(Duration::from_millis(33));
     }
 
     fn editor_closed(&mut self) {
+        // No note outlives the editor: release the mouse's and the computer keys' notes.
+        let link = self.link.clone();
+        let mut send = |e: EventKind| link.note(e);
+        self.keyboard.mouse.update(false, None, &mut send);
+        self.keyboard.release_computer_keys(&mut send);
         self.gui = None;
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use egui::{Event, Modifiers, PointerButton, Pos2, RawInput, Rect};
-
-    /// Runs one egui frame at time `t` (s) with `events`; returns the button's rectangle and
-    /// whether it reports the pointer button down on it.
-    fn frame(
-        ctx: &egui::Context,
-        t: f64,
-        events: Vec<Event>,
-        button: fn(&mut egui::Ui) -> egui::Response,
-    ) -> (Rect, bool) {
-        let input = RawInput {
-            time: Some(t),
-            screen_rect: Some(Rect::from_min_size(Pos2::ZERO, Vec2::new(400.0, 200.0))),
-            events,
-            ..RawInput::default()
-        };
-        let mut out = (Rect::NOTHING, false);
-        let _ = ctx.run_ui(input, |ui| {
-            let r = button(ui);
-            out = (r.rect, r.is_pointer_button_down_on());
-        });
-        out
-    }
-
-    /// Presses `button` at t = 0.1 s, holds it still until 3 s, releases it at 3.1 s; returns
-    /// the held flag of every frame (30 frames a second) from the press to the release.
-    fn hold(button: fn(&mut egui::Ui) -> egui::Response) -> Vec<(f64, bool)> {
-        let ctx = egui::Context::default();
-        let (rect, _) = frame(&ctx, 0.0, vec![], button);
-        let pos = rect.center();
-        let press = |pressed| Event::PointerButton {
-            pos,
-            button: PointerButton::Primary,
-            pressed,
-            modifiers: Modifiers::NONE,
-        };
-        let mut seen = vec![];
-        let (_, down) = frame(
-            &ctx,
-            0.1,
-            vec![Event::PointerMoved(pos), press(true)],
-            button,
-        );
-        seen.push((0.1, down));
-        for i in 1..=87 {
-            let t = 0.1 + f64::from(i) / 30.0;
-            seen.push((t, frame(&ctx, t, vec![], button).1));
-        }
-        let (_, down) = frame(&ctx, 3.1, vec![press(false)], button);
-        seen.push((3.1, down));
-        seen
-    }
-
-    #[test]
-    fn audition_button_stays_down_while_held() {
-        // The harness reproduces the reported bug: a click-only button lets go after egui's
-        // 0.8 s `max_click_duration` although the pointer button is still down.
-        let plain = hold(|ui| ui.button("hold to play"));
-        assert!(plain[0].1, "plain button not down on the press frame");
-        assert!(
-            plain.iter().any(|&(t, down)| t < 3.0 && !down),
-            "a click-only button no longer lets go of a long press: {plain:?}"
-        );
-        // The audition button is down on every frame from the press until the release
-        // (exact: a boolean per frame), and up on the release frame.
-        let fixed = hold(audition_button);
-        let (last, held) = fixed.split_last().unwrap();
-        for &(t, down) in held {
-            assert!(down, "audition button up at t = {t:.2} s while held");
-        }
-        assert!(!last.1, "audition button still down after the release");
     }
 }

@@ -1,23 +1,8 @@
-//! Drawing of the live views (GUI thread only): per-voice energy bars, the mode spectrum, the
-//! string or plate displacement and the CPU load bar. Each takes plain slices so it does not
-//! depend on how the telemetry reached the GUI.
+//! Drawing of the live views (GUI thread only): the mode spectrum, the string or plate
+//! displacement and the CPU load bar (the energy meters are in `meters`). Each takes plain
+//! slices so it does not depend on how the telemetry reached the GUI.
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, StrokeKind, Ui, Vec2};
-
-/// Colours of the four energy terms, in the order of [`ENERGY_LABELS`].
-pub const ENERGY_COLOURS: [Color32; 4] = [
-    Color32::from_rgb(90, 170, 255),
-    Color32::from_rgb(120, 220, 120),
-    Color32::from_rgb(255, 170, 60),
-    Color32::from_rgb(235, 235, 235),
-];
-
-/// Labels of the four energy terms of a voice.
-pub const ENERGY_LABELS: [&str; 4] = ["kinetic", "linear", "nonlin./contact", "total"];
-
-/// Lower end of the energy meters, in dB relative to the loudest total shown (energies span
-/// many decades while a note decays; 80 dB shows the whole audible part of a decay).
-const ENERGY_RANGE_DB: f32 = 80.0;
 
 fn frame(ui: &mut Ui, size: Vec2) -> (Rect, egui::Painter) {
     let (response, painter) = ui.allocate_painter(size, Sense::hover());
@@ -36,108 +21,76 @@ fn small_font() -> FontId {
     FontId::proportional(11.0)
 }
 
-/// Maps an energy to a bar fraction in [0, 1] on a dB scale below `reference`.
-fn energy_fraction(e: f32, reference: f32) -> f32 {
-    // Also rejects NaN.
-    if !(e.is_finite() && e > 0.0 && reference.is_finite() && reference > 0.0) {
-        return 0.0;
-    }
-    let db = 10.0 * (e / reference).log10();
-    ((db + ENERGY_RANGE_DB) / ENERGY_RANGE_DB).clamp(0.0, 1.0)
-}
+/// Range of the spectrum's amplitude axis, dB below the strongest mode.
+const SPECTRUM_DB: f32 = 60.0;
+/// Left margin of the spectrum for its dB labels (points).
+const AXIS_W: f32 = 34.0;
 
-/// Per-voice energy meters: for each voice, four bars (kinetic, linear potential, nonlinear or
-/// contact potential, total), in dB below the largest total among the voices. `voices` holds
-/// `(label, [kinetic, linear, nonlinear, total])` in joules.
-pub fn energy_meters(ui: &mut Ui, voices: &[(String, [f32; 4])], width: f32) {
-    let row_h = 30.0;
-    let h = 18.0 + row_h * voices.len().max(1) as f32;
-    let (rect, painter) = frame(ui, Vec2::new(width, h));
-    let reference =
-        voices
-            .iter()
-            .map(|(_, e)| e[3])
-            .fold(0.0f32, |m, e| if e.is_finite() { m.max(e) } else { m });
-    let mut x = rect.left() + 70.0;
-    for (label, colour) in ENERGY_LABELS.iter().zip(ENERGY_COLOURS) {
-        painter.text(
-            Pos2::new(x, rect.top() + 3.0),
-            Align2::LEFT_TOP,
-            label,
-            small_font(),
-            colour,
-        );
-        x += (width - 80.0) / 4.0;
-    }
-    if voices.is_empty() {
-        painter.text(
-            rect.center() + Vec2::new(0.0, 8.0),
-            Align2::CENTER_CENTER,
-            "no voice sounding",
-            small_font(),
-            Color32::GRAY,
-        );
-        return;
-    }
-    for (row, (label, e)) in voices.iter().enumerate() {
-        let top = rect.top() + 18.0 + row_h * row as f32;
-        painter.text(
-            Pos2::new(rect.left() + 6.0, top + row_h * 0.5),
-            Align2::LEFT_CENTER,
-            label,
-            small_font(),
-            Color32::LIGHT_GRAY,
-        );
-        let bar_w = (width - 80.0) / 4.0 - 6.0;
-        for (k, colour) in ENERGY_COLOURS.iter().enumerate() {
-            let left = rect.left() + 70.0 + k as f32 * (bar_w + 6.0);
-            let full =
-                Rect::from_min_size(Pos2::new(left, top + 6.0), Vec2::new(bar_w, row_h - 12.0));
-            painter.rect_filled(full, 1.0, Color32::from_gray(35));
-            let f = energy_fraction(e[k], reference);
-            let bar = Rect::from_min_size(full.min, Vec2::new(bar_w * f, full.height()));
-            painter.rect_filled(bar, 1.0, *colour);
-            painter.text(
-                full.right_center() - Vec2::new(3.0, 0.0),
-                Align2::RIGHT_CENTER,
-                format!("{:.2e} J", e[k]),
-                small_font(),
-                Color32::from_gray(200),
-            );
-        }
+/// Frequency tick label: "50 Hz", "1 kHz".
+fn freq_label(f: f32) -> String {
+    if f >= 1000.0 {
+        format!("{} kHz", f / 1000.0)
+    } else {
+        format!("{f} Hz")
     }
 }
 
 /// The mode spectrum: one vertical line per mode at its frequency (log axis from 20 Hz to
-/// `f_max`), height its amplitude `|q_s|` in dB below the strongest mode (60 dB shown).
+/// `f_max`), height its amplitude `|q_s|` in dB re the strongest mode (0 to -60 dB, labelled
+/// on the left). Frequency labels sit at the bottom, kept inside the frame.
 pub fn mode_spectrum(ui: &mut Ui, freqs_hz: &[f32], amplitudes: &[f32], f_max: f32, size: Vec2) {
-    let (rect, painter) = frame(ui, size);
+    let (outer, painter) = frame(ui, size);
+    let rect = Rect::from_min_max(
+        Pos2::new(outer.left() + AXIS_W, outer.top() + 6.0),
+        Pos2::new(outer.right() - 6.0, outer.bottom() - 16.0),
+    );
     let f_min = 20.0f32;
     let f_max = f_max.max(2.0 * f_min);
     let x_of = |f: f32| {
         let t = (f.max(f_min).ln() - f_min.ln()) / (f_max.ln() - f_min.ln());
-        rect.left() + 4.0 + t.clamp(0.0, 1.0) * (rect.width() - 8.0)
+        rect.left() + t.clamp(0.0, 1.0) * rect.width()
     };
-    for f in [100.0f32, 1_000.0, 10_000.0] {
-        if f < f_max {
-            let x = x_of(f);
-            painter.line_segment(
-                [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
-                Stroke::new(1.0, Color32::from_gray(45)),
-            );
-            let label = if f >= 1000.0 {
-                format!("{} kHz", f / 1000.0)
-            } else {
-                format!("{f} Hz")
-            };
-            painter.text(
-                Pos2::new(x + 2.0, rect.top() + 2.0),
-                Align2::LEFT_TOP,
-                label,
-                small_font(),
-                Color32::GRAY,
-            );
+    let y_of = |db: f32| rect.top() + (-db / SPECTRUM_DB).clamp(0.0, 1.0) * rect.height();
+    let grid = Stroke::new(1.0, Color32::from_gray(45));
+    for db in [0.0f32, -20.0, -40.0, -60.0] {
+        let y = y_of(db);
+        painter.line_segment(
+            [Pos2::new(rect.left(), y), Pos2::new(rect.right(), y)],
+            grid,
+        );
+        painter.text(
+            Pos2::new(rect.left() - 4.0, y),
+            Align2::RIGHT_CENTER,
+            format!("{db:.0} dB"),
+            small_font(),
+            Color32::from_gray(170),
+        );
+    }
+    let mut last_right = f32::NEG_INFINITY;
+    for f in [50.0f32, 100.0, 200.0, 500.0, 1e3, 2e3, 5e3, 1e4, 2e4] {
+        if f > f_max {
+            break;
         }
+        let x = x_of(f);
+        painter.line_segment(
+            [Pos2::new(x, rect.top()), Pos2::new(x, rect.bottom())],
+            grid,
+        );
+        let label = freq_label(f);
+        let w = 6.0 * label.len() as f32;
+        // Centred under the tick, shifted inside the frame, skipped if it would overlap.
+        let cx = x.clamp(outer.left() + 0.5 * w, outer.right() - 0.5 * w - 2.0);
+        if cx - 0.5 * w < last_right + 4.0 {
+            continue;
+        }
+        last_right = cx + 0.5 * w;
+        painter.text(
+            Pos2::new(cx, outer.bottom() - 2.0),
+            Align2::CENTER_BOTTOM,
+            label,
+            small_font(),
+            Color32::from_gray(170),
+        );
     }
     let e_max = amplitudes
         .iter()
@@ -154,20 +107,17 @@ pub fn mode_spectrum(ui: &mut Ui, freqs_hz: &[f32], amplitudes: &[f32], f_max: f
         );
         return;
     }
-    let range_db = 60.0f32;
     for (&f, &e) in freqs_hz.iter().zip(amplitudes) {
         if !(e.is_finite() && e > 0.0 && f.is_finite()) {
             continue;
         }
         let db = 20.0 * (e / e_max).log10();
-        let t = ((db + range_db) / range_db).clamp(0.0, 1.0);
-        if t <= 0.0 {
+        if db < -SPECTRUM_DB {
             continue;
         }
         let x = x_of(f);
-        let y = rect.bottom() - 2.0 - t * (rect.height() - 16.0);
         painter.line_segment(
-            [Pos2::new(x, rect.bottom() - 2.0), Pos2::new(x, y)],
+            [Pos2::new(x, rect.bottom()), Pos2::new(x, y_of(db))],
             Stroke::new(1.5, Color32::from_rgb(255, 200, 80)),
         );
     }
@@ -207,10 +157,18 @@ pub fn displacement(ui: &mut Ui, u: &[f32], label: &str, size: Vec2) {
             Stroke::new(1.5, Color32::from_rgb(120, 200, 255)),
         );
     }
+    let silent = scale <= 1e-12;
     painter.text(
         rect.left_top() + Vec2::new(4.0, 2.0),
         Align2::LEFT_TOP,
-        format!("{label}, full scale {scale:.2e} m"),
+        if silent {
+            format!("{label} · at rest")
+        } else {
+            format!(
+                "{label} · full scale ±{}",
+                crate::format::format_value(noether_core::engine::ParamId::PluckAmplitude, scale)
+            )
+        },
         small_font(),
         Color32::GRAY,
     );
@@ -218,8 +176,10 @@ pub fn displacement(ui: &mut Ui, u: &[f32], label: &str, size: Vec2) {
 
 /// CPU load bar: `load` is the audio thread's processing time over the real time of the audio
 /// it produced (1.0 = one full core's budget; above that the audio drops out).
-pub fn cpu_bar(ui: &mut Ui, load: f32, width: f32) {
-    let (rect, painter) = frame(ui, Vec2::new(width, 16.0));
+pub fn cpu_bar(ui: &mut Ui, load: f32, width: f32) -> egui::Response {
+    let (response, painter) = ui.allocate_painter(Vec2::new(width, 16.0), Sense::hover());
+    let rect = response.rect;
+    painter.rect_filled(rect, 2.0, Color32::from_gray(18));
     let f = if load.is_finite() {
         load.clamp(0.0, 1.0)
     } else {
@@ -241,4 +201,5 @@ pub fn cpu_bar(ui: &mut Ui, load: f32, width: f32) {
         small_font(),
         Color32::WHITE,
     );
+    response
 }

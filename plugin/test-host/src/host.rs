@@ -267,7 +267,7 @@ fn apply_sets(
             .get_value(&instance.plugin_handle(), p.id)
             .ok_or("get_value failed")?;
         let shown = text_of(&ext, instance, p.id, got)?;
-        if !same_display_value(&want, &shown) {
+        if !shows_value(&ext, instance, p.id, &want, &shown) {
             return Err(format!(
                 "parameter `{}` set to `{want}` reads back `{shown}` (CLAP value {got})",
                 p.name
@@ -276,6 +276,30 @@ fn apply_sets(
         println!("set {} = {want} (reads back `{shown}`)", p.name);
     }
     Ok(())
+}
+
+/// Whether the plugin's display text `shown` of parameter `id` shows the requested `want`:
+/// [`same_display_value`], or both texts read by the plugin's own `text_to_value` give the
+/// same CLAP value within a relative 1e-3 (the display may use another unit than the request:
+/// `Size=0.5` shows "50.00 cm", `Release T60=0.5` shows "500.0 ms").
+pub(crate) fn shows_value(
+    ext: &PluginParams,
+    instance: &mut PluginInstance<TestHost>,
+    id: ClapId,
+    want: &str,
+    shown: &str,
+) -> bool {
+    if same_display_value(want, shown) {
+        return true;
+    }
+    let mut parse = |t: &str| {
+        let c = CString::new(t).ok()?;
+        ext.text_to_value(&instance.plugin_handle(), id, &c)
+    };
+    match (parse(want), parse(shown)) {
+        (Some(a), Some(b)) => (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-9,
+        _ => false,
+    }
 }
 
 /// Whether the display text `shown` (first word, the number or the enumeration name) matches

@@ -8,7 +8,7 @@
 //! value as it was; the `--expect NAME=VALUE` display values hold. The plugin's own log
 //! (stderr) names what it repaired.
 
-use crate::host::{same_display_value, text_of, values, Param, TestHost};
+use crate::host::{shows_value, text_of, values, Param, TestHost};
 use clack_extensions::params::PluginParams;
 use clack_extensions::state::PluginState;
 use clack_host::prelude::*;
@@ -67,7 +67,7 @@ pub fn load_state(
             .find(|(p, _)| p.name.eq_ignore_ascii_case(name))
             .ok_or_else(|| format!("--expect: no parameter named `{name}`"))?;
         let shown = text_of(&ext, instance, p.id, *y)?;
-        if !same_display_value(want, &shown) {
+        if !shows_value(&ext, instance, p.id, want, &shown) {
             return Err(format!(
                 "after loading {}: `{name}` shows `{shown}`, expected `{want}`",
                 path.display()

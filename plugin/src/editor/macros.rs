@@ -1,0 +1,176 @@
+//! Macro controls (GUI thread only): four knobs a player reaches for, each moving several
+//! physical parameters together through the host's parameter setter (one begin / set / end
+//! gesture per parameter, so automation records the parameters themselves; the macros are
+//! not host parameters). A macro's position is read back from its first parameter, so it
+//! follows presets and automation.
+//!
+//! Mappings (`t` the macro position 0..1; "log" interpolates the logarithm):
+//! - Hardness: plates, strike duration log 30 ms → 0.5 ms (shorter is a harder mallet);
+//!   strings, pluck position 50 % → 5 % of the length (a pluck near the end is sharper).
+//! - Brightness: plates, strike position 30 % → 95 % of the radius and both pickups 30 % →
+//!   95 % (towards the edge more high modes are excited and heard); strings, both pickups
+//!   50 % → 3 % of the length. Positions rebuild the voice bank (a short pause in new notes).
+//! - Decay: damping scale log 8 → 0.05 and release T60 log 0.2 s → 20 s.
+//! - Size: size, log over its whole range (plates: a rescale, strings: a new grid).
+
+use super::grid::apply_gesture;
+use crate::params::NoetherParams;
+use egui::Ui;
+use nice_plug::prelude::*;
+use noether_core::engine::ParamId;
+
+/// How one parameter follows a macro: from `a` at 0 to `b` at 1, logarithmically if `log`.
+#[derive(Debug, Clone, Copy)]
+pub struct Target {
+    /// The parameter moved.
+    pub id: ParamId,
+    /// Value at macro position 0 (plain units).
+    pub a: f32,
+    /// Value at macro position 1 (plain units).
+    pub b: f32,
+    /// Interpolate the logarithm (both ends positive).
+    pub log: bool,
+}
+
+impl Target {
+    /// The parameter's value at macro position `t` (0..1), inside its range.
+    pub fn value(&self, t: f32) -> f32 {
+        let t = t.clamp(0.0, 1.0);
+        let v = if self.log {
+            (self.a.ln() + t * (self.b.ln() - self.a.ln())).exp()
+        } else {
+            self.a + t * (self.b - self.a)
+        };
+        let info = self.id.info();
+        v.clamp(info.min, info.max)
+    }
+
+    /// The macro position at which the parameter has value `v` (clamped to 0..1).
+    pub fn position(&self, v: f32) -> f32 {
+        let t = if self.log {
+            (v.max(1e-30).ln() - self.a.ln()) / (self.b.ln() - self.a.ln())
+        } else {
+            (v - self.a) / (self.b - self.a)
+        };
+        if t.is_finite() {
+            t.clamp(0.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+}
+
+const fn lin(id: ParamId, a: f32, b: f32) -> Target {
+    Target {
+        id,
+        a,
+        b,
+        log: false,
+    }
+}
+
+const fn log(id: ParamId, a: f32, b: f32) -> Target {
+    Target {
+        id,
+        a,
+        b,
+        log: true,
+    }
+}
+
+/// The macros' names, tooltips and targets for a plate (`string` false) or a string model.
+pub fn macros(string: bool) -> [(&'static str, &'static str, Vec<Target>); 4] {
+    use ParamId::*;
+    let size = Size.info();
+    [
+        if string {
+            (
+                "Hardness",
+                "pluck position 50 % → 5 % of the length: a pluck near the end is sharper",
+                vec![lin(PluckPosition, 0.5, 0.05)],
+            )
+        } else {
+            (
+                "Hardness",
+                "strike duration 30 ms → 0.5 ms (log): a shorter strike is a harder mallet",
+                vec![log(StrikeDuration, 0.03, 0.0005)],
+            )
+        },
+        if string {
+            (
+                "Brightness",
+                "both pickups 50 % → 3 % of the length (rebuilds the voices)",
+                vec![
+                    lin(PickupLeftPos, 0.5, 0.03),
+                    lin(PickupRightPos, 0.5, 0.04),
+                ],
+            )
+        } else {
+            (
+                "Brightness",
+                "strike position and both pickups 30 % → 95 % of the radius: towards the edge more high modes sound (rebuilds the voices)",
+                vec![
+                    lin(StrikeRadius, 0.3, 0.95),
+                    lin(PickupLeftPos, 0.3, 0.95),
+                    lin(PickupRightPos, 0.25, 0.9),
+                ],
+            )
+        },
+        (
+            "Decay",
+            "damping scale 8 → 0.05 and release T60 0.2 s → 20 s (both log)",
+            vec![log(DampingScale, 8.0, 0.05), log(ReleaseT60, 0.2, 20.0)],
+        ),
+        (
+            "Size",
+            "size over its whole range (log): plates rescale, strings get a new length",
+            vec![log(Size, size.min, size.max)],
+        ),
+    ]
+}
+
+/// Draws the macro sliders in a row, `width` points for each.
+pub fn macro_row(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter, width: f32) {
+    let string = params.slot(ParamId::Model).value() >= 3.0;
+    ui.spacing_mut().slider_width = width;
+    for (name, help, targets) in macros(string) {
+        let first = targets[0];
+        let mut t = first.position(params.slot(first.id).value());
+        ui.label(egui::RichText::new(name).strong())
+            .on_hover_text(help);
+        let r = ui
+            .add(egui::Slider::new(&mut t, 0.0..=1.0).show_value(false))
+            .on_hover_text(format!("{name}: {help}"));
+        let values: Vec<(&crate::params::Slot, f32)> = targets
+            .iter()
+            .map(|g| (params.slot(g.id), g.value(t)))
+            .collect();
+        apply_gesture(ui, &r, setter, &values);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every target stays inside its parameter's range at both ends and reads back its
+    /// position (within 1e-4: f32 logarithms).
+    #[test]
+    fn targets_round_trip_inside_the_ranges() {
+        for string in [false, true] {
+            for (name, _, targets) in macros(string) {
+                for g in targets {
+                    let info = g.id.info();
+                    for t in [0.0, 0.3, 1.0] {
+                        let v = g.value(t);
+                        assert!(v >= info.min && v <= info.max, "{name} {}", info.key);
+                        assert!((g.position(v) - t).abs() < 1e-4, "{name} {}: {t}", info.key);
+                    }
+                }
+            }
+        }
+        // Harder is shorter: the hardness macro at 1 gives 0.5 ms.
+        let hard = &macros(false)[0].2[0];
+        assert!((hard.value(1.0) - 5e-4).abs() < 1e-7);
+    }
+}
