@@ -41,13 +41,12 @@ enum Quantity {
 fn quantity(id: ParamId) -> Quantity {
     use ParamId::*;
     match id {
-        Size | Thickness | BridgePosition | PluckAmplitude => Quantity::Length,
+        Size | Thickness | PluckAmplitude => Quantity::Length,
         YoungsModulus => Quantity::Modulus,
         StrikeAngle | PickupLeftAngle | PickupRightAngle => Quantity::Angle,
-        StrikeRadius | PickupLeftPos | PickupRightPos | PluckPosition | ModWheelDepth => {
-            Quantity::Percent
-        }
-        SimRate | BandLimit | TuningA4 => Quantity::Frequency,
+        StrikeRadius | PickupLeftPos | PickupRightPos | PluckPosition | ModWheelDepth
+        | BridgePosition => Quantity::Percent,
+        SimRate | BandLimit | TuningA4 | LowCut => Quantity::Frequency,
         StrikeDuration | ReleaseT60 => Quantity::Time,
         LinearDensity => Quantity::LinearDensity,
         RootKey => Quantity::Key,
@@ -60,6 +59,7 @@ fn quantity(id: ParamId) -> Quantity {
         BridgeCurvature => Quantity::Plain("1/m"),
         ContactStiffness => Quantity::Plain("N/m^α"),
         Gain => Quantity::Plain("dB"),
+        KeyLevel => Quantity::Plain("dB/oct"),
         PitchBendRange => Quantity::Plain("st"),
         _ => Quantity::Plain(""),
     }
