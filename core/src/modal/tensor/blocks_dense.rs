@@ -9,10 +9,39 @@
 /// registers (no store-to-load chain through `v_C` from row to row). Rows of `m` are padded with
 /// zeros to `4 C`, so the padded lanes read `x` past the class (times 0) and add exact zeros
 /// to `v` past it: `x`, `v` must extend `4 C - nc` entries beyond `c0 + nc` (the scratch
-/// padding of `PAD`).
+/// padding of `PAD`). The `FMA` instantiation (run only on CPUs with AVX2 and FMA) is
+/// [`regs_avx2`], bit-identical to the portable code ([`regs_portable`]).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn regs<const C: usize, const FMA: bool>(
+    m: &[f64],
+    x: &[f64],
+    v: &mut [f64],
+    r0: usize,
+    nr: usize,
+    c0: usize,
+    diag: bool,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: FMA instantiations run only on CPUs with AVX2 and FMA, inside the layout's
+        // `avx2,fma` entry points.
+        unsafe {
+            if diag {
+                regs_avx2::<C, true>(m, x, v, r0, nr, c0);
+            } else {
+                regs_avx2::<C, false>(m, x, v, r0, nr, c0);
+            }
+        }
+        return;
+    }
+    regs_portable::<C, FMA>(m, x, v, r0, nr, c0, diag);
+}
+
+/// The portable [`regs`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn regs_portable<const C: usize, const FMA: bool>(
     m: &[f64],
     x: &[f64],
     v: &mut [f64],
@@ -43,6 +72,62 @@ pub(super) fn regs<const C: usize, const FMA: bool>(
             for (o, &y) in v[c0 + 4 * c..c0 + 4 * c + 4].iter_mut().zip(a) {
                 *o += y;
             }
+        }
+    }
+}
+
+/// [`regs`]'s `FMA` instantiation in AVX2 intrinsics: [`regs_portable`]'s fused multiply-adds
+/// in the same order per lane (`d` the row's four lane sums, `acc[c]` column group `c`), the row sum
+/// as `(d₀ + d₁) + (d₂ + d₃)` and the column sums added lane by lane, so the results are
+/// bit-identical to the portable code; on diagonal blocks (`DIAG`) the column sums, which
+/// [`regs`] computes and drops, are not computed.
+///
+/// # Safety
+///
+/// The CPU must have AVX2 and FMA and the caller be compiled with both enabled.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn regs_avx2<const C: usize, const DIAG: bool>(
+    m: &[f64],
+    x: &[f64],
+    v: &mut [f64],
+    r0: usize,
+    nr: usize,
+    c0: usize,
+) {
+    use std::arch::x86_64::*;
+    let n = (r0 + nr).max(c0 + 4 * C);
+    assert!(
+        m.len() >= 4 * C * nr && x.len() >= n && v.len() >= n,
+        "regs: lengths"
+    );
+    let (mp, xp, vp) = (m.as_ptr(), x.as_ptr(), v.as_mut_ptr());
+    let mut xc = [_mm256_setzero_pd(); C];
+    for (c, b) in xc.iter_mut().enumerate() {
+        // SAFETY: c0 + 4c + 4 <= c0 + 4C <= x.len() (asserted).
+        *b = _mm256_loadu_pd(xp.add(c0 + 4 * c));
+    }
+    let mut acc = [_mm256_setzero_pd(); C];
+    for r in 0..nr {
+        // SAFETY: r < nr: row r of m and entry r0 + r of x and v are inside (asserted).
+        let row = mp.add(4 * C * r);
+        let s = _mm256_set1_pd(*xp.add(r0 + r));
+        let mut d = _mm256_setzero_pd();
+        for c in 0..C {
+            let a = _mm256_loadu_pd(row.add(4 * c));
+            d = _mm256_fmadd_pd(a, xc[c], d);
+            if !DIAG {
+                acc[c] = _mm256_fmadd_pd(s, a, acc[c]);
+            }
+        }
+        let pair = _mm_hadd_pd(_mm256_castpd256_pd128(d), _mm256_extractf128_pd::<1>(d));
+        *vp.add(r0 + r) += _mm_cvtsd_f64(pair) + _mm_cvtsd_f64(_mm_unpackhi_pd(pair, pair));
+    }
+    if !DIAG {
+        for (c, a) in acc.iter().enumerate() {
+            // SAFETY: as for `xc` above, in v.
+            let out = vp.add(c0 + 4 * c);
+            _mm256_storeu_pd(out, _mm256_add_pd(_mm256_loadu_pd(out), *a));
         }
     }
 }
@@ -135,9 +220,59 @@ pub(super) fn dot_portable<const FMA: bool>(m: &[f64], x: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail
 }
 
-/// Returns `Σ_k m_k x_k` and does `y_k += s m_k`, one pass over `m` (equal lengths).
+/// Returns `Σ_k m_k x_k` and does `y_k += s m_k`, one pass over `m` (equal lengths). The `FMA`
+/// instantiation (run only on CPUs with AVX2 and FMA) is [`dot_axpy_avx2`], bit-identical.
 #[inline(always)]
 pub(super) fn dot_axpy<const FMA: bool>(m: &[f64], x: &[f64], y: &mut [f64], s: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: FMA instantiations run only on CPUs with AVX2 and FMA, inside the layout's
+        // `avx2,fma` entry points.
+        return unsafe { dot_axpy_avx2(m, x, y, s) };
+    }
+    dot_axpy_portable::<FMA>(m, x, y, s)
+}
+
+/// [`dot_axpy`]'s `FMA` instantiation in AVX2 intrinsics: lane `k` of the sum and each `y`
+/// update with the same fused multiply-adds as [`dot_axpy_portable`], the tail in order, the
+/// same final sum: bit-identical.
+///
+/// # Safety
+///
+/// The CPU must have AVX2 and FMA and the caller be compiled with both enabled.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn dot_axpy_avx2(m: &[f64], x: &[f64], y: &mut [f64], s: f64) -> f64 {
+    use std::arch::x86_64::*;
+    let n = m.len().min(x.len()).min(y.len());
+    let body = n - n % 4;
+    let (mp, xp, yp) = (m.as_ptr(), x.as_ptr(), y.as_mut_ptr());
+    let (mut acc, sv) = (_mm256_setzero_pd(), _mm256_set1_pd(s));
+    for k in (0..body).step_by(4) {
+        // SAFETY: k + 4 <= body <= every length.
+        let a = _mm256_loadu_pd(mp.add(k));
+        acc = _mm256_fmadd_pd(a, _mm256_loadu_pd(xp.add(k)), acc);
+        let out = yp.add(k);
+        _mm256_storeu_pd(out, _mm256_fmadd_pd(sv, a, _mm256_loadu_pd(out)));
+    }
+    let mut tail = 0.0;
+    for k in body..n {
+        tail = m[k].mul_add(x[k], tail);
+        y[k] = s.mul_add(m[k], y[k]);
+    }
+    let mut a = [0.0f64; 4];
+    _mm256_storeu_pd(a.as_mut_ptr(), acc);
+    (a[0] + a[1]) + (a[2] + a[3]) + tail
+}
+
+/// The portable [`dot_axpy`].
+#[inline(always)]
+pub(super) fn dot_axpy_portable<const FMA: bool>(
+    m: &[f64],
+    x: &[f64],
+    y: &mut [f64],
+    s: f64,
+) -> f64 {
     let mut acc = [0.0f64; 4];
     let (mc, xc, mut yc) = (m.chunks_exact(4), x.chunks_exact(4), y.chunks_exact_mut(4));
     let (mr, xr) = (mc.remainder(), xc.remainder());

@@ -226,8 +226,9 @@ fn gong_tensor_classes_and_kernel() {
     }
 }
 
-/// The AVX2 `dot` of the `FMA` instantiation is the portable one bit for bit (same lanes,
-/// same fused multiply-adds, same final order), for every length 0 to 40 and random data, so
+/// The AVX2 `dot` and `dot_axpy` of the `FMA` instantiation are the portable ones bit for bit
+/// (same lanes, same fused multiply-adds, same final order), for every length 0 to 40 and
+/// random data, so
 /// the default `f64` kernels' results did not change when it replaced the compiler's
 /// vectorisation. Exact equality (`to_bits`): any reordering would show in the last bits of
 /// these ~40-term sums of mixed signs.
@@ -247,6 +248,16 @@ fn avx2_dot_is_the_portable_dot_bit_for_bit() {
                 super::dense::dot_portable::<true>(&m, &x).to_bits(),
                 "n = {n}"
             );
+            // The same for the dot product with an axpy (the wide blocks' kernel).
+            let (mut y_fast, mut y_slow) = (x.clone(), x.clone());
+            let s = lcg(&mut seed) - 0.5;
+            // SAFETY: as above.
+            let d_fast = unsafe { dot_axpy_avx2_for_tests(&m, &x, &mut y_fast, s) };
+            let d_slow = dense::dot_axpy_portable::<true>(&m, &x, &mut y_slow, s);
+            assert_eq!(d_fast.to_bits(), d_slow.to_bits(), "dot_axpy n = {n}");
+            for (a, b) in y_fast.iter().zip(&y_slow) {
+                assert_eq!(a.to_bits(), b.to_bits(), "axpy n = {n}");
+            }
             // The control: a plain left-to-right sum differs in the last bits for most n.
             let naive: f64 = m.iter().zip(&x).map(|(a, b)| a * b).sum();
             differing += usize::from(naive.to_bits() != fast.to_bits());
@@ -258,10 +269,74 @@ fn avx2_dot_is_the_portable_dot_bit_for_bit() {
     }
 }
 
+/// [`dot_axpy`]'s `FMA` instantiation compiled with AVX2 and FMA enabled.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn dot_axpy_avx2_for_tests(m: &[f64], x: &[f64], y: &mut [f64], s: f64) -> f64 {
+    dot_axpy::<true>(m, x, y, s)
+}
+
 /// [`dot`]'s `FMA` instantiation compiled with AVX2 and FMA enabled, as inside the layout's
 /// entry points.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 unsafe fn dot_avx2_for_tests(m: &[f64], x: &[f64]) -> f64 {
     dot::<true>(m, x)
+}
+
+/// The AVX2 register kernel of the `f64` blocks is the portable one bit for bit, for every
+/// register count (1 to 4 column groups), diagonal or not, on random values (exact equality of
+/// every output: the same fused multiply-adds in the same order; the default storage's
+/// results did not change).
+#[test]
+fn avx2_register_kernel_is_the_portable_one_bit_for_bit() {
+    #[cfg(target_arch = "x86_64")]
+    if is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma") {
+        let mut seed = 23;
+        for diag in [false, true] {
+            for c in 1..=4 {
+                let (nr, n) = (if diag { 4 * c } else { 13 }, 64);
+                let (r0, c0) = if diag { (8, 8) } else { (40, 8) };
+                let m: Vec<f64> = (0..nr * 4 * c).map(|_| lcg(&mut seed) - 0.5).collect();
+                let x: Vec<f64> = (0..n).map(|_| lcg(&mut seed) * 20.0 - 10.0).collect();
+                let v0: Vec<f64> = (0..n).map(|_| lcg(&mut seed) - 0.5).collect();
+                let (mut fast, mut slow) = (v0.clone(), v0.clone());
+                // SAFETY: the CPU has AVX2 and FMA (checked above).
+                unsafe { regs_avx2_for_tests(c, &m, &x, &mut fast, r0, nr, c0, diag) };
+                match c {
+                    1 => dense::regs_portable::<1, true>(&m, &x, &mut slow, r0, nr, c0, diag),
+                    2 => dense::regs_portable::<2, true>(&m, &x, &mut slow, r0, nr, c0, diag),
+                    3 => dense::regs_portable::<3, true>(&m, &x, &mut slow, r0, nr, c0, diag),
+                    _ => dense::regs_portable::<4, true>(&m, &x, &mut slow, r0, nr, c0, diag),
+                }
+                assert_ne!(fast, v0, "the kernel wrote");
+                for (k, (a, b)) in fast.iter().zip(&slow).enumerate() {
+                    assert_eq!(a.to_bits(), b.to_bits(), "C {c} diag {diag} entry {k}");
+                }
+            }
+        }
+    }
+}
+
+/// [`regs`]'s `FMA` instantiation compiled with AVX2 and FMA enabled (as inside the layout's
+/// entry points), for `c` column groups.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn regs_avx2_for_tests(
+    c: usize,
+    m: &[f64],
+    x: &[f64],
+    v: &mut [f64],
+    r0: usize,
+    nr: usize,
+    c0: usize,
+    diag: bool,
+) {
+    match c {
+        1 => regs::<1, true>(m, x, v, r0, nr, c0, diag),
+        2 => regs::<2, true>(m, x, v, r0, nr, c0, diag),
+        3 => regs::<3, true>(m, x, v, r0, nr, c0, diag),
+        _ => regs::<4, true>(m, x, v, r0, nr, c0, diag),
+    }
 }
