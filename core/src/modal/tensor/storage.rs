@@ -15,7 +15,7 @@
 //! values, halved on the diagonal exactly) and the `f32` blocks all hold the same numbers.
 //! The model then conserves its energy to `f64` round-off as with double storage; what
 //! changes is the tensor itself, by a relative `2⁻²⁴` per entry (a perturbation of the
-//! physics far below the modal truncation's, measured in `docs/performance.md`).
+//! physics far below the modal truncation's, measured in `docs/models.md`).
 //!
 //! Threads: [`CouplingTensor::with_storage`] runs on a worker thread (allocates, `O(nnz)` plus
 //! the block layout's build); the result is read-only like any tensor.
