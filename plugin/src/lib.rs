@@ -20,6 +20,7 @@ pub mod midi;
 pub mod params;
 pub mod presets;
 pub mod state;
+pub mod user_presets;
 
 use editor::EditorApp;
 use link::EngineLink;
