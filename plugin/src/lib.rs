@@ -18,6 +18,7 @@ pub mod format;
 pub mod link;
 pub mod midi;
 pub mod params;
+pub mod preset_state;
 pub mod presets;
 pub mod state;
 pub mod user_presets;

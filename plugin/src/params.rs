@@ -9,10 +9,13 @@
 //! every (sample-accurately split) block in [`NoetherParams::sync_to_engine`].
 
 use crate::format::{format_value, parse_value};
+use crate::preset_state::{CurrentPreset, Origin, PresetState};
 use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
-use noether_core::engine::{ParamId, ParamInfo, ParamKind, SharedParams, PARAMS};
+use noether_core::engine::{
+    ParamId, ParamInfo, ParamKind, ParamValues, Preset, SharedParams, PARAMS,
+};
 use std::collections::BTreeMap;
 use std::sync::{Arc, RwLock};
 
@@ -105,9 +108,9 @@ pub struct NoetherParams {
     pub slots: Vec<Slot>,
     /// Editor window size and zoom (GUI thread; nice-plug-egui 0.6 cannot persist it).
     pub editor_state: Arc<EguiEditorState>,
-    /// Name of the last factory preset loaded from the editor (persisted; shown in the
-    /// preset menu; empty if none). GUI and main thread.
-    pub preset_name: RwLock<String>,
+    /// The current preset, its reference values and the A/B slots (persisted; see
+    /// [`PresetState`]). GUI and main thread, never the audio thread.
+    pub preset: RwLock<PresetState>,
 }
 
 impl Default for NoetherParams {
@@ -122,7 +125,7 @@ impl Default for NoetherParams {
         Self {
             slots,
             editor_state: EguiEditorState::from_size(LogicalSize::new(1040.0, 720.0), 1.0),
-            preset_name: RwLock::new(String::new()),
+            preset: RwLock::new(PresetState::default()),
         }
     }
 }
@@ -131,6 +134,21 @@ impl NoetherParams {
     /// The slot of `id`.
     pub fn slot(&self, id: ParamId) -> &Slot {
         &self.slots[id.index()]
+    }
+
+    /// Every parameter's plain value before host modulation, clamped to the table's range as
+    /// in [`Self::sync_to_engine`] (so a preset saved from it passes the engine's checks).
+    /// GUI and main thread (it only reads atomics).
+    pub fn plain_values(&self) -> ParamValues {
+        let mut v = ParamValues::defaults();
+        for (slot, info) in self.slots.iter().zip(PARAMS) {
+            let x = match slot {
+                Slot::Float(p) => p.unmodulated_plain_value(),
+                Slot::Int(p) => p.unmodulated_plain_value() as f32,
+            };
+            v.0[info.id.index()] = x.clamp(info.min, info.max);
+        }
+        v
     }
 
     /// Copies every value whose bits differ from the engine's into `shared` (audio thread,
@@ -148,7 +166,10 @@ impl NoetherParams {
     }
 }
 
+/// Persisted field: the current preset's name.
 const PRESET_KEY: &str = "preset";
+/// Persisted field: the whole [`PresetState`] (JSON).
+const PRESET_STATE_KEY: &str = "preset_state";
 
 // SAFETY: the pointers in `param_map` point into `self.slots`, which is never resized after
 // construction, and the `Params` object lives in an `Arc` that outlives the wrapper's use.
@@ -169,26 +190,54 @@ unsafe impl Params for NoetherParams {
 
     fn serialize_fields(&self) -> BTreeMap<String, String> {
         let mut map = BTreeMap::new();
-        let name = self
-            .preset_name
-            .read()
-            .map(|n| n.clone())
-            .unwrap_or_default();
-        if let Ok(s) = nice_plug::params::persist::serialize_field(&name) {
+        let Ok(state) = self.preset.read() else {
+            return map;
+        };
+        // The name on its own too, as states saved before the preset state had it.
+        if let Ok(s) = nice_plug::params::persist::serialize_field(&state.current.name) {
             map.insert(PRESET_KEY.to_string(), s);
+        }
+        if let Ok(s) = nice_plug::params::persist::serialize_field(&*state) {
+            map.insert(PRESET_STATE_KEY.to_string(), s);
         }
         map
     }
 
     fn deserialize_fields(&self, serialized: &BTreeMap<String, String>) {
+        let Ok(mut state) = self.preset.write() else {
+            return;
+        };
+        if let Some(s) = serialized.get(PRESET_STATE_KEY) {
+            match nice_plug::params::persist::deserialize_field::<PresetState>(s) {
+                Ok(v) => {
+                    *state = v;
+                    return;
+                }
+                Err(e) => nice_error!("ignoring a corrupt preset state in the plugin state: {e}"),
+            }
+        }
+        // An older state: the name only, so its values are unknown (no edited mark).
         if let Some(s) = serialized.get(PRESET_KEY) {
             match nice_plug::params::persist::deserialize_field::<String>(s) {
-                Ok(v) => {
-                    if let Ok(mut n) = self.preset_name.write() {
-                        *n = v;
-                    }
+                Ok(name) if !name.is_empty() => {
+                    // A factory preset's name gets that preset's values as its reference.
+                    let factory = Preset::factory()
+                        .into_iter()
+                        .find(|(_, p)| p.name == name)
+                        .and_then(|(stem, p)| p.values().ok().map(|v| (stem, v)));
+                    state.current = match factory {
+                        Some((stem, v)) => {
+                            CurrentPreset::new(&name, Origin::Factory(stem.to_string()), v)
+                        }
+                        None => CurrentPreset {
+                            name,
+                            origin: Origin::Unsaved,
+                            reference: None,
+                        },
+                    };
                 }
-                Err(e) => nice_log!("ignoring a corrupt preset name in the plugin state: {e}"),
+                Ok(_) => {}
+                Err(e) => nice_error!("ignoring a corrupt preset name in the plugin state: {e}"),
             }
         }
     }
