@@ -1,6 +1,6 @@
-//! The egui editor (GUI thread only), laid out for players: a top bar with the preset menu,
-//! CPU load and the model state (a clear "rebuilding model" banner while the worker builds a
-//! voice bank), four macro controls (hardness, brightness, decay, size), the parameter
+//! The egui editor (GUI thread only), laid out for players: a top bar with the preset bar
+//! (factory and user presets, A/B compare), CPU load and the model state (a clear "rebuilding
+//! model" banner while the worker builds a voice bank), four macro controls (hardness, brightness, decay, size), the parameter
 //! sections on the left ([`grid`]), live views on the right (energy meters on one dB scale
 //! with a strip chart, the mode spectrum, the displacement of the watched voice) and an
 //! on-screen keyboard across the bottom, also played from the computer keyboard.
@@ -15,11 +15,13 @@ pub mod keyboard;
 pub mod macros;
 pub mod meters;
 mod plots;
+mod preset_bar;
 
 use crate::format::plural;
 use crate::link::EngineLink;
 use crate::params::NoetherParams;
 use crate::presets::FactoryPreset;
+use crate::user_presets::UserPresetStore;
 use egui::{Color32, RichText, Vec2};
 use keyboard::Keyboard;
 use meters::EnergyHistory;
@@ -27,6 +29,7 @@ use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
 use noether_core::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
+use preset_bar::PresetBar;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -36,8 +39,8 @@ pub struct EditorApp {
     params: Arc<NoetherParams>,
     /// Telemetry and GUI commands (shared with the plugin, which (re)connects the engine).
     link: Arc<EngineLink>,
-    /// The factory presets, parsed once.
-    presets: Arc<Vec<FactoryPreset>>,
+    /// The preset bar (factory and user presets, A/B compare).
+    preset_bar: PresetBar,
     /// nice-plug's GUI context (parameter setter), set in `build`.
     gui: Option<GuiContext>,
     /// The latest telemetry frame received.
@@ -64,7 +67,7 @@ impl EditorApp {
         Self {
             params,
             link,
-            presets,
+            preset_bar: PresetBar::new(presets, UserPresetStore::user()),
             gui: None,
             telemetry: Telemetry::default(),
             build_error: None,
@@ -75,56 +78,11 @@ impl EditorApp {
         }
     }
 
-    fn load_preset(&mut self, index: usize, setter: &ParamSetter) {
-        let Some(preset) = self.presets.get(index) else {
-            return;
-        };
-        for info in noether_core::engine::PARAMS {
-            let v = preset.values.get(info.id);
-            grid::set_slot(setter, self.params.slot(info.id), v);
-        }
-        if let Ok(mut n) = self.params.preset_name.write() {
-            n.clone_from(&preset.name);
-        }
-    }
-
-    /// The factory-preset menu (its own function so a preset bar can take its place).
-    fn preset_menu(&mut self, ui: &mut egui::Ui, setter: &ParamSetter) {
-        let current = self
-            .params
-            .preset_name
-            .read()
-            .map(|n| n.clone())
-            .unwrap_or_default();
-        let mut chosen = None;
-        egui::ComboBox::from_id_salt("preset")
-            .width(220.0)
-            .selected_text(if current.is_empty() {
-                "factory presets".to_string()
-            } else {
-                current
-            })
-            .show_ui(ui, |ui| {
-                for (i, p) in self.presets.iter().enumerate() {
-                    if ui
-                        .selectable_label(false, &p.name)
-                        .on_hover_text(&p.description)
-                        .clicked()
-                    {
-                        chosen = Some(i);
-                    }
-                }
-            });
-        if let Some(i) = chosen {
-            self.load_preset(i, setter);
-        }
-    }
-
     fn top_bar(&mut self, ui: &mut egui::Ui, setter: &ParamSetter) {
         ui.horizontal_wrapped(|ui| {
             ui.heading("Noether");
             ui.separator();
-            self.preset_menu(ui, setter);
+            self.preset_bar.show(ui, &self.params, setter);
             ui.separator();
             if self.telemetry.rebuilding {
                 ui.spinner();
