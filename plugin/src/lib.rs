@@ -14,6 +14,8 @@
 //! on the host's main and GUI threads.
 
 pub mod editor;
+#[cfg(test)]
+pub(crate) mod fake_host;
 pub mod format;
 pub mod link;
 pub mod midi;

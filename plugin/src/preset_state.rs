@@ -213,7 +213,10 @@ pub fn differs(params: &NoetherParams, reference: &ParamValues) -> bool {
 /// parameter whose plain value changes (GUI thread). The host takes normalized values and keeps
 /// `preview_plain(normalized)`, which for a skewed range can be a few ulps from the plain value
 /// the normalized one came from; [`exact_normalized`] picks the normalized value that gives the
-/// plain value back exactly where there is one, so an A/B switch restores a set bit for bit.
+/// plain value back exactly where there is one, so an A/B switch restores bit for bit every
+/// value the host or the editor set (those came from normalized values). A plain value that no
+/// normalized value reaches (a default, or a value from a loaded state, at a few points of the
+/// skewed ranges) comes back within a few ulps, well inside [`NORMALIZED_TOLERANCE`].
 pub fn apply(params: &NoetherParams, setter: &ParamSetter, values: &ParamValues) {
     for info in PARAMS {
         let v = values.get(info.id);

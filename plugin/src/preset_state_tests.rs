@@ -1,58 +1,9 @@
-//! Tests of the preset state against a fake host: a [`GuiContextInner`] that records every
-//! gesture and stores each normalized value into the parameter the way nice-plug's wrappers do.
+//! Tests of the preset state against a fake host ([`FakeHost`]).
 
 use super::*;
+use crate::fake_host::FakeHost;
 use crate::user_presets::tests::random_values;
-use nice_plug::context::gui::GuiContextInner;
-use nice_plug::context::PluginApi;
-use nice_plug::params::internals::ParamPtr;
-use nice_plug::plugin::PluginState;
 use noether_core::engine::ParamId;
-use std::sync::Mutex;
-
-/// A host: applies normalized values at once and logs `(gesture, parameter name)`.
-#[derive(Default)]
-struct FakeHost {
-    log: Mutex<Vec<(char, String)>>,
-}
-
-impl FakeHost {
-    fn record(&self, kind: char, param: ParamPtr) {
-        // SAFETY: the parameters outlive the host in every test.
-        let name = unsafe { param.name() }.to_string();
-        self.log.lock().unwrap().push((kind, name));
-    }
-
-    fn take(&self) -> Vec<(char, String)> {
-        std::mem::take(&mut *self.log.lock().unwrap())
-    }
-}
-
-impl GuiContextInner for FakeHost {
-    fn plugin_api(&self) -> PluginApi {
-        PluginApi::Clap
-    }
-    unsafe fn raw_begin_set_parameter(&self, param: ParamPtr) {
-        self.record('b', param);
-    }
-    unsafe fn raw_set_parameter_normalized(&self, param: ParamPtr, normalized: f32) {
-        self.record('s', param);
-        // SAFETY: as above; this is what the wrappers do with a GUI change.
-        unsafe { param._internal_set_normalized_value(normalized) };
-    }
-    unsafe fn raw_end_set_parameter(&self, param: ParamPtr) {
-        self.record('e', param);
-    }
-    fn get_state(&self) -> PluginState {
-        PluginState {
-            version: String::new(),
-            params: Default::default(),
-            fields: Default::default(),
-        }
-    }
-    fn set_state(&self, _state: PluginState) {}
-    fn request_restart(&self) {}
-}
 
 fn bits(v: &ParamValues) -> Vec<u32> {
     v.0.iter().map(|x| x.to_bits()).collect()
@@ -71,7 +22,6 @@ fn host_values(params: &NoetherParams, host: &FakeHost, v: &ParamValues) -> Para
 fn start_up_preset_is_named_and_clean() {
     let params = NoetherParams::default();
     let state = params.preset.read().unwrap();
-    eprintln!("start-up preset: {:?}", state.current.origin);
     assert!(!state.current.name.is_empty());
     assert_eq!(state.current.reference, Some(ParamValues::defaults()));
     match &state.current.origin {

@@ -164,13 +164,17 @@ impl PresetBar {
         act: &mut Option<Action>,
     ) {
         if ui
-            .small_button("◀")
+            .small_button(RichText::new("◀").monospace())
             .on_hover_text("previous preset")
             .clicked()
         {
             *act = Some(Action::Step(-1));
         }
-        if ui.small_button("▶").on_hover_text("next preset").clicked() {
+        if ui
+            .small_button(RichText::new("▶").monospace())
+            .on_hover_text("next preset")
+            .clicked()
+        {
             *act = Some(Action::Step(1));
         }
         let current = &state.current;
@@ -198,8 +202,11 @@ impl PresetBar {
                 ui.weak("none saved yet");
             }
             for b in self.listing.iter().flat_map(|l| &l.broken) {
-                ui.add_enabled(false, egui::Label::new(format!("⚠ {} (broken)", b.stem)))
-                    .on_disabled_hover_text(b.error.as_str());
+                ui.add_enabled(
+                    false,
+                    egui::Label::new(RichText::new(format!("{} (broken)", b.stem)).italics()),
+                )
+                .on_disabled_hover_text(b.error.as_str());
             }
             ui.separator();
             if ui.button("Save").clicked() {
@@ -261,7 +268,7 @@ impl PresetBar {
         }
         let (from, to) = (state.active.label(), state.active.other().label());
         if ui
-            .small_button(format!("{from}→{to}"))
+            .small_button(RichText::new(format!("{from}→{to}")).monospace())
             .on_hover_text(format!("copy slot {from} into slot {to}"))
             .clicked()
         {
@@ -448,9 +455,7 @@ impl PresetBar {
             self.dialog = None;
             return;
         };
-        // Saving over the current user preset itself needs no second question.
-        let same = matches!(&state.current.origin, Origin::User(s) if store.existing(&name).as_ref() == Some(s));
-        if !overwrite && !same && store.existing(&name).is_some() {
+        if !overwrite && store.existing(&name).is_some() {
             self.dialog = Some(Dialog::Overwrite {
                 name,
                 rename_from: None,
@@ -511,18 +516,5 @@ impl PresetBar {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The arrows wrap around both ends; from a preset not in the list, forward goes to the
-    /// first and back to the last; an empty list goes nowhere.
-    #[test]
-    fn arrows_wrap() {
-        assert_eq!(neighbour(Some(0), 3, 1), Some(1));
-        assert_eq!(neighbour(Some(2), 3, 1), Some(0));
-        assert_eq!(neighbour(Some(0), 3, -1), Some(2));
-        assert_eq!(neighbour(None, 3, 1), Some(0));
-        assert_eq!(neighbour(None, 3, -1), Some(2));
-        assert_eq!(neighbour(None, 0, 1), None);
-    }
-}
+#[path = "preset_bar_tests.rs"]
+mod tests;
