@@ -98,6 +98,16 @@ const FACTORY: &[(&str, &str)] = &[
     ),
 ];
 
+/// `x` as the f64 whose shortest decimal text is the f32's shortest text (so a saved preset
+/// reads `1.7468022`, not `1.7468022108078003`) when that f64 rounds back to `x` bit for bit,
+/// else `x` widened exactly: either way reading the text back gives `x` exactly.
+fn short_f64(x: f32) -> f64 {
+    match x.to_string().parse::<f64>() {
+        Ok(short) if (short as f32).to_bits() == x.to_bits() => short,
+        _ => f64::from(x),
+    }
+}
+
 impl Preset {
     /// Parses a preset (checks the structure only; [`Self::values`] checks the values).
     pub fn from_toml(text: &str) -> Result<Preset, ParamError> {
@@ -175,7 +185,8 @@ impl Preset {
         Ok(v)
     }
 
-    /// A preset holding every value of `v` (enumerations by name).
+    /// A preset holding every value of `v` (enumerations by name; numbers in the shortest
+    /// text that reads back as the same f32).
     pub fn from_values(name: &str, description: &str, v: &ParamValues) -> Preset {
         let params = PARAMS
             .iter()
@@ -187,7 +198,7 @@ impl Preset {
                         .map_or(PresetValue::Number(x as f64), |n| {
                             PresetValue::Name(n.to_string())
                         }),
-                    _ => PresetValue::Number(x as f64),
+                    _ => PresetValue::Number(short_f64(x)),
                 };
                 (p.key.to_string(), value)
             })
@@ -238,8 +249,11 @@ mod tests {
         let mut v = ParamValues::defaults();
         v.set(ParamId::Model, 3.0).unwrap();
         v.set(ParamId::Tension, 150.0).unwrap();
+        v.set(ParamId::Size, 1.746_802_2).unwrap();
         let p = Preset::from_values("x", "", &v);
-        let back = Preset::from_toml(&p.to_toml()).unwrap();
+        let text = p.to_toml();
+        assert!(text.contains("size = 1.7468022\n"), "{text}");
+        let back = Preset::from_toml(&text).unwrap();
         assert_eq!(back.values().unwrap(), v);
         let e = Preset::from_toml("name = \"a\"\n[params]\nsize = 99.0\n")
             .unwrap()
