@@ -118,7 +118,10 @@ CRATES = [
         "noether-plugin",
         "plugin/src/lib.rs",
         [
+            # fake_host: the tests' host (test builds only).
+            ["fake_host", "preset_state", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
+            ["preset_ops"],
             ["editor"],
         ],
     ),

@@ -6,7 +6,9 @@
 //! - mirrors the engine's parameter table as host parameters ([`params`]),
 //! - translates host note and MIDI events into sample-accurate engine events ([`midi`]),
 //! - connects the editor to the engine's telemetry and command queues ([`link`]),
-//! - ships the factory presets ([`presets`]) and the editor ([`editor`]),
+//! - ships the factory presets ([`presets`]), keeps the user's presets ([`user_presets`]), the
+//!   current preset and the A/B compare slots ([`preset_state`], [`preset_ops`]), and the editor
+//!   ([`editor`]),
 //! - makes any saved state it is given load to a defined, reported state ([`state`]).
 //!
 //! Threads: `process` runs on the host's audio thread (no allocation, lock or I/O: parameters
@@ -20,6 +22,7 @@ pub mod format;
 pub mod link;
 pub mod midi;
 pub mod params;
+pub mod preset_ops;
 pub mod preset_state;
 pub mod presets;
 pub mod state;

@@ -5,7 +5,7 @@
 //! for confirmation in a modal dialog.
 //!
 //! Loads and A/B switches write the parameters through nice-plug's `ParamSetter`
-//! ([`crate::preset_state::apply`]), so the host records them; the preset state lives in
+//! ([`crate::preset_ops::apply`]), so the host records them; the preset state lives in
 //! [`NoetherParams::preset`] and is persisted with the plugin state.
 
 use crate::params::NoetherParams;

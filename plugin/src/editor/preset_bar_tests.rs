@@ -4,7 +4,7 @@
 use super::*;
 use crate::fake_host::FakeHost;
 use crate::params::Slot;
-use crate::preset_state::differs;
+use crate::preset_ops::differs;
 use crate::presets::factory_presets;
 use crate::user_presets::tests::TempDir;
 use noether_core::engine::ParamId;

@@ -2,8 +2,10 @@
 
 use super::*;
 use crate::fake_host::FakeHost;
+use crate::preset_state::{Origin, INIT_NAME};
 use crate::user_presets::tests::random_values;
 use noether_core::engine::ParamId;
+use noether_core::engine::Preset;
 
 fn bits(v: &ParamValues) -> Vec<u32> {
     v.0.iter().map(|x| x.to_bits()).collect()
