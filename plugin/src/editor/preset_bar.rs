@@ -296,11 +296,15 @@ impl PresetBar {
                     };
                     ui.heading(title);
                     let edit = ui.text_edit_singleline(&mut name);
-                    edit.request_focus();
+                    // Enter means OK (the text field gives up its focus on Enter, so its
+                    // focus is asked for again only when no Enter came).
+                    let enter = ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    if !edit.has_focus() && !enter {
+                        edit.request_focus();
+                    }
                     if let Some(e) = &error {
                         ui.colored_label(Color32::from_rgb(230, 80, 60), e.as_str());
                     }
-                    let enter = edit.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                     let (ok, cancel) = ui
                         .horizontal(|ui| (ui.button("OK").clicked(), ui.button("Cancel").clicked()))
                         .inner;
