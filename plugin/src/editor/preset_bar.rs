@@ -467,7 +467,16 @@ impl PresetBar {
             return;
         }
         let values = params.plain_values();
-        let description = self.description_of(&state.current.origin);
+        // A user preset keeps its description; one saved from a factory preset says which
+        // (the factory text describes the factory values, not the edited ones).
+        let description = match &state.current.origin {
+            Origin::User(_) => self.description_of(&state.current.origin),
+            Origin::Factory(stem) => format!(
+                "Saved from the factory preset \"{}\" ({stem}).",
+                state.current.name
+            ),
+            Origin::Init | Origin::Unsaved => String::new(),
+        };
         match store.save(&name, &description, &values, true) {
             Ok(stem) => {
                 self.message = Some((format!("saved {stem}"), false));

@@ -79,6 +79,15 @@ fn save_rename_delete_flow() {
     assert_eq!(state.current.origin, Origin::User("mine".into()));
     assert_eq!(state.current.display(&params), "mine");
     assert_eq!(bar.listing.as_ref().unwrap().presets.len(), 1);
+    let saved = UserPresetStore::at(&t.0).load("mine").unwrap();
+    assert!(
+        saved
+            .description
+            .starts_with("Saved from the factory preset")
+            && saved.description.contains(last),
+        "{}",
+        saved.description
+    );
 
     // An edit marks it; Save asks first, then writes the edited values.
     let Slot::Int(modes) = params.slot(ParamId::Modes) else {
