@@ -220,10 +220,10 @@ unsafe impl Params for NoetherParams {
         if let Some(s) = serialized.get(PRESET_KEY) {
             match nice_plug::params::persist::deserialize_field::<String>(s) {
                 Ok(name) if !name.is_empty() => {
-                    // A factory preset's name gets that preset's values as its reference.
+                    // A factory preset's name (or file stem) gets that preset's values as its reference.
                     let factory = Preset::factory()
                         .into_iter()
-                        .find(|(_, p)| p.name == name)
+                        .find(|(stem, p)| p.name == name || *stem == name)
                         .and_then(|(stem, p)| p.values().ok().map(|v| (stem, v)));
                     state.current = match factory {
                         Some((stem, v)) => {
