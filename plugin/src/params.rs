@@ -216,18 +216,18 @@ unsafe impl Params for NoetherParams {
                 Err(e) => nice_error!("ignoring a corrupt preset state in the plugin state: {e}"),
             }
         }
-        // An older state: the name only, so its values are unknown (no edited mark).
+        // An older state: the name only. A factory preset's name (or file stem) gets that
+        // preset's name and values; any other name has unknown values (no edited mark).
         if let Some(s) = serialized.get(PRESET_KEY) {
             match nice_plug::params::persist::deserialize_field::<String>(s) {
                 Ok(name) if !name.is_empty() => {
-                    // A factory preset's name (or file stem) gets that preset's values as its reference.
                     let factory = Preset::factory()
                         .into_iter()
                         .find(|(stem, p)| p.name == name || *stem == name)
-                        .and_then(|(stem, p)| p.values().ok().map(|v| (stem, v)));
+                        .and_then(|(stem, p)| p.values().ok().map(|v| (stem, p.name, v)));
                     state.current = match factory {
-                        Some((stem, v)) => {
-                            CurrentPreset::new(&name, Origin::Factory(stem.to_string()), v)
+                        Some((stem, display, v)) => {
+                            CurrentPreset::new(&display, Origin::Factory(stem.to_string()), v)
                         }
                         None => CurrentPreset {
                             name,

@@ -186,6 +186,15 @@ fn state_persists() {
     let s = p.preset.read().unwrap();
     assert_eq!(s.current.origin, Origin::Factory(stem.into()));
     assert_eq!(s.current.reference, Some(preset.values().unwrap()));
+    // The file stem, as the plugin's CI state blobs write it, finds the preset too.
+    let mut by_stem = std::collections::BTreeMap::new();
+    by_stem.insert(
+        "preset".to_string(),
+        nice_plug::params::persist::serialize_field(&stem).unwrap(),
+    );
+    let q = NoetherParams::default();
+    q.deserialize_fields(&by_stem);
+    assert_eq!(q.preset.read().unwrap().current, s.current);
     // A corrupt preset state is ignored (the name is used).
     old.insert("preset_state".into(), "{not json".into());
     let p = NoetherParams::default();
