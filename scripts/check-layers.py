@@ -118,8 +118,8 @@ CRATES = [
         "noether-plugin",
         "plugin/src/lib.rs",
         [
-            # fake_host: the tests' host (test builds only).
-            ["fake_host", "preset_state", "user_presets"],
+            # fake_host: the tests' host (test builds only); format: values to text and back.
+            ["fake_host", "format", "preset_state", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
             ["preset_ops"],
             ["editor"],
