@@ -44,6 +44,11 @@ fn save_rename_delete_flow() {
         bar.act(a, &params, &setter, state)
     };
 
+    act(&mut bar, &mut state, Action::Load(0));
+    assert_eq!(
+        state.current.origin,
+        Origin::Factory(factory[0].stem.into())
+    );
     act(&mut bar, &mut state, Action::Step(1));
     assert_eq!(
         state.current.origin,
