@@ -334,3 +334,34 @@ fn blocks(s: &Session, run: &mut Runner) {
         });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn options_parse_and_unknown_groups_are_refused() {
+        let o = ConformOptions::parse(&args(&["p.clap", "--seed", "9", "--only", "rate,state"]))
+            .unwrap();
+        assert_eq!((o.seed, o.permutations), (9, 50));
+        assert!(o.runs("rate") && o.runs("state") && !o.runs("params"));
+        let e = ConformOptions::parse(&args(&["p.clap", "--only", "rates"])).unwrap_err();
+        assert!(e.contains("`rates`"), "{e}");
+        assert!(ConformOptions::parse(&args(&["p.clap"]))
+            .unwrap()
+            .runs("params"));
+    }
+
+    #[test]
+    fn a_failed_case_is_counted_and_named() {
+        let mut run = Runner::default();
+        run.case("good", || Ok("fine".into()));
+        run.case("bad", || Err("broken".into()));
+        assert_eq!(run.passed, 1);
+        assert_eq!(run.failed, vec!["bad".to_string()]);
+    }
+}
