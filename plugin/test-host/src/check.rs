@@ -1,5 +1,6 @@
 //! `check`: the acceptance test every plugin render goes through (the CLAP host's, pedalboard's
-//! and the JACK recording of the standalone): finite, non-silent, decaying after the note-off.
+//! and the JACK recording of the standalone): finite, at most 0 dBFS, non-silent, decaying after
+//! the note-off.
 
 use crate::{parse_num, path_arg};
 use std::path::PathBuf;
@@ -17,10 +18,13 @@ pub struct CheckOptions {
     pub from_onset: bool,
     /// The smallest acceptable peak before the note-off (full scale 1.0).
     pub min_peak: f64,
+    /// The largest acceptable |sample| anywhere in the file (default 1.0: 0 dBFS, the bound of
+    /// the engine's output stage).
+    pub max_peak: f64,
 }
 
 impl CheckOptions {
-    /// Parses `FILE --note-off S [--from-onset] [--min-peak X]`.
+    /// Parses `FILE --note-off S [--from-onset] [--min-peak X] [--max-peak X]`.
     pub fn parse(args: &[String]) -> Result<Self, String> {
         let mut it = args.iter();
         let file = path_arg("FILE.wav", it.next())?;
@@ -29,11 +33,13 @@ impl CheckOptions {
         // -80 dBFS: far below any struck or plucked note at the factory gain, far above the
         // float rounding floor of a silent render (exactly 0) or dither.
         let mut min_peak = 1e-4;
+        let mut max_peak = 1.0;
         while let Some(flag) = it.next() {
             match flag.as_str() {
                 "--note-off" => note_off = Some(parse_num(flag, it.next())?),
                 "--from-onset" => from_onset = true,
                 "--min-peak" => min_peak = parse_num(flag, it.next())?,
+                "--max-peak" => max_peak = parse_num(flag, it.next())?,
                 other => return Err(format!("unknown option `{other}`")),
             }
         }
@@ -42,6 +48,7 @@ impl CheckOptions {
             note_off: note_off.ok_or("check needs --note-off SECONDS")?,
             from_onset,
             min_peak,
+            max_peak,
         })
     }
 }
@@ -87,6 +94,20 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
         return Err(format!(
             "{}: {bad} samples are NaN or infinite",
             o.file.display()
+        ));
+    }
+    // Above full scale anywhere (the onset search and the windows below look at parts only).
+    let over = frames.iter().filter(|&&v| v > o.max_peak).count();
+    if over > 0 {
+        let top = frames.iter().fold(0.0f64, |m, &v| m.max(v));
+        let first = frames.iter().position(|&v| v > o.max_peak).unwrap_or(0);
+        return Err(format!(
+            "{}: {over} frames above {:e} (0 dBFS is 1.0), peak {top:.3e} ({:+.1} dBFS), first at \
+             frame {first} ({:.3} s)",
+            o.file.display(),
+            o.max_peak,
+            20.0 * top.log10(),
+            first as f64 / rate_f
         ));
     }
     let onset = if o.from_onset {
@@ -148,7 +169,10 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
             "not decaying after note-off: last 100 ms RMS {tail:e} > half of {before:e}"
         ));
     }
-    println!("ok: finite, non-silent, decaying after note-off");
+    println!(
+        "ok: finite, at most {:+.1} dBFS, non-silent, decaying after note-off",
+        20.0 * o.max_peak.log10()
+    );
     Ok(())
 }
 
@@ -195,6 +219,7 @@ mod tests {
             note_off: 1.0,
             from_onset: true,
             min_peak: 1e-4,
+            max_peak: 1.0,
         }
     }
 
@@ -224,6 +249,20 @@ mod tests {
         let f = wav("held", 0.7, f64::INFINITY, 3.0);
         let e = check(&from_onset(f.clone())).unwrap_err();
         assert!(e.contains("not decaying"), "{e}");
+        std::fs::remove_file(f).ok();
+    }
+
+    #[test]
+    fn a_render_above_full_scale_fails() {
+        // The tone of `wav` peaks at 0.5: a 0.4 ceiling makes it "above full scale", the same
+        // comparison a render above 1.0 meets with the default ceiling.
+        let f = wav("loud", 0.7, 0.2, 3.0);
+        let o = CheckOptions {
+            max_peak: 0.4,
+            ..from_onset(f.clone())
+        };
+        let e = check(&o).unwrap_err();
+        assert!(e.contains("above 4e-1") && e.contains("-6.0 dBFS"), "{e}");
         std::fs::remove_file(f).ok();
     }
 }

@@ -154,7 +154,11 @@ pub(crate) struct Param {
     pub stepped: bool,
 }
 
-fn new_instance(entry: &PluginEntry, id: &CString) -> Result<PluginInstance<TestHost>, String> {
+/// A new instance of plugin `id` from `entry`, with the test host's identity.
+pub(crate) fn new_instance(
+    entry: &PluginEntry,
+    id: &CString,
+) -> Result<PluginInstance<TestHost>, String> {
     let info = HostInfo::new(
         "noether-test-host",
         "Noether",
@@ -166,7 +170,8 @@ fn new_instance(entry: &PluginEntry, id: &CString) -> Result<PluginInstance<Test
         .map_err(|e| format!("creating the plugin instance: {e:?}"))
 }
 
-fn list_params(instance: &mut PluginInstance<TestHost>) -> Result<Vec<Param>, String> {
+/// The parameters of `instance`, in the plugin's order.
+pub(crate) fn list_params(instance: &mut PluginInstance<TestHost>) -> Result<Vec<Param>, String> {
     let handle = instance.plugin_handle();
     let params: PluginParams = handle
         .get_extension()
@@ -559,10 +564,14 @@ pub fn render(o: &RenderOptions) -> Result<(), String> {
     };
     let mut w = hound::WavWriter::create(&o.out, spec)
         .map_err(|e| format!("creating {}: {e}", o.out.display()))?;
-    for s in frames {
+    for &s in &frames {
         w.write_sample(s).map_err(|e| format!("writing WAV: {e}"))?;
     }
     w.finalize().map_err(|e| format!("writing WAV: {e}"))?;
     println!("wrote {}", o.out.display());
+    if o.hostile_automation {
+        // After the WAV is written, so a failing render can be inspected.
+        println!("{}", crate::hostile::check_output(&frames, 2, o.rate)?);
+    }
     Ok(())
 }

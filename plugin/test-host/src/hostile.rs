@@ -7,6 +7,10 @@
 //! error naming the parameter, the value sent and the value read back; the counts are printed as
 //! the report of the clamping.
 //!
+//! The render itself must stay finite and within ±1.0 (0 dBFS) whatever the automation does:
+//! [`check_output`] fails it otherwise (the engine's output stage bounds the level; gain at its
+//! +60 dB maximum with a hard strike must not reach the host above full scale).
+//!
 //! Threads: all on the test host's single thread, between `process` calls (as a DAW's offline
 //! bounce would send automation).
 
@@ -161,5 +165,68 @@ impl HostileAutomation {
             r.dropped_non_finite,
             r.valid
         )
+    }
+}
+
+/// Checks the interleaved output of a hostile-automation render: every sample finite and
+/// |x| <= 1.0 (0 dBFS). Returns the peak line for the log, or an error with the counts, the
+/// peak and the first bad frame (stereo frames: `channels` samples each).
+pub(crate) fn check_output(samples: &[f32], channels: usize, rate: f64) -> Result<String, String> {
+    let mut peak = 0.0f64;
+    let mut non_finite = 0usize;
+    let mut over = 0usize;
+    let mut first = None;
+    for (i, &x) in samples.iter().enumerate() {
+        let bad = if x.is_finite() {
+            let a = f64::from(x.abs());
+            peak = peak.max(a);
+            a > 1.0
+        } else {
+            true
+        };
+        if bad {
+            if x.is_finite() {
+                over += 1;
+            } else {
+                non_finite += 1;
+            }
+            first.get_or_insert(i / channels.max(1));
+        }
+    }
+    let level = if peak > 0.0 {
+        format!("{:+.1} dBFS", 20.0 * peak.log10())
+    } else {
+        "silent".to_string()
+    };
+    match first {
+        None => Ok(format!(
+            "hostile automation output: {} samples finite, peak {level} (at most 0 dBFS)",
+            samples.len()
+        )),
+        Some(f) => Err(format!(
+            "hostile automation output: {non_finite} samples NaN or infinite, {over} above \
+             0 dBFS (peak of the finite ones {level}), first at frame {f} ({:.3} s)",
+            f as f64 / rate
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::check_output;
+
+    #[test]
+    fn full_scale_passes_and_anything_beyond_fails() {
+        assert!(check_output(&[0.0, 1.0, -1.0, 0.5], 2, 48_000.0).is_ok());
+        let above = f32::from_bits(1.0f32.to_bits() + 1);
+        let e = check_output(&[0.0, 0.0, 0.1, -above], 2, 48_000.0).unwrap_err();
+        assert!(e.contains("1 above 0 dBFS") && e.contains("frame 1"), "{e}");
+        // A +50 dBFS render (what the hostile automation produced before the output stage).
+        let e = check_output(&[316.0, -316.0], 2, 48_000.0).unwrap_err();
+        assert!(e.contains("+50.0 dBFS"), "{e}");
+        for x in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            let e = check_output(&[0.0, x], 2, 48_000.0).unwrap_err();
+            assert!(e.contains("1 samples NaN or infinite"), "{e}");
+        }
     }
 }

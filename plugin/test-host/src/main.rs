@@ -2,12 +2,17 @@
 //! `noether-plugin.clap`, lists its parameters, sets some of them, plays notes with MIDI
 //! expression (pitch bend, mod wheel, sustain) and renders a stereo WAV; plus `check`, which reads
 //! any WAV (ours, `jack_rec`'s, pedalboard's) and checks it is finite, non-silent and decaying
-//! after the note-off. CI runs both through `.ci/plugin`.
+//! after the note-off; and `conform`, the validators' checks (activation at unusual rates, block
+//! sizes, random and extreme parameters, state) on the CLAP build. CI runs them through
+//! `.ci/plugin`.
 //!
 //! Everything runs on the main thread: the host calls `process` itself, block after block, which
 //! is what an offline bounce in a DAW does.
 
 mod check;
+mod conform;
+mod conform_params;
+mod conform_render;
 mod host;
 mod hostile;
 mod state_load;
@@ -22,13 +27,16 @@ enum Command {
     Render(host::RenderOptions),
     /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X]`.
     Check(check::CheckOptions),
+    /// `conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP,...]`.
+    Conform(conform::ConformOptions),
 }
 
 fn usage() -> &'static str {
     "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
      [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip] [--hostile-automation]\n      \
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
-     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X]"
+     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X]\n  \
+     noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]"
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -36,6 +44,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     match cmd.as_str() {
         "render" => host::RenderOptions::parse(rest).map(Command::Render),
         "check" => check::CheckOptions::parse(rest).map(Command::Check),
+        "conform" => conform::ConformOptions::parse(rest).map(Command::Conform),
         other => Err(format!("unknown command `{other}`\n{}", usage())),
     }
 }
@@ -63,6 +72,7 @@ fn main() -> ExitCode {
     let result = parse_args(&args).and_then(|cmd| match cmd {
         Command::Render(opts) => host::render(&opts),
         Command::Check(opts) => check::check(&opts),
+        Command::Conform(opts) => conform::conform(&opts),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
