@@ -2,7 +2,7 @@
 //! in-range parameter values (a plugin must never refuse the host): rates 8 kHz to 384 kHz,
 //! seeded random parameter sets, every parameter alone at its bounds, all at their minima and
 //! all at their maxima. Each activation must build the requested model (`Ok(None)`: no
-//! fallback) and a note through it must give finite samples.
+//! fallback) and a note through it must be accepted by the model and give finite samples.
 //!
 //! Cost bound: the quality parameters (`modes`, `in_plane_modes`, `polyphony`) are capped in
 //! the random and bound draws so each build takes milliseconds from the modal cache; their
@@ -40,7 +40,8 @@ fn play(v: &ParamValues, rate: f64, seconds: f64, what: &str) -> f32 {
         Ok(Some(refused)) => panic!("{what}: the model was refused ({refused})"),
         Err(err) => panic!("{what}: activation failed ({err})"),
     }
-    e.note_on(60, 1.0);
+    // The root key: the model at its nominal parameters (other keys rescale them).
+    e.note_on(v.get(ParamId::RootKey) as u8, 1.0);
     let n = (seconds * rate) as usize;
     let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
     for (cl, cr) in l.chunks_mut(256).zip(r.chunks_mut(256)) {
@@ -50,6 +51,13 @@ fn play(v: &ParamValues, rate: f64, seconds: f64, what: &str) -> f32 {
         l.iter().chain(&r).all(|x| x.is_finite()),
         "{what}: non-finite output"
     );
+    // A note the model refuses (coefficients out of its stability region) is silence. The
+    // conservative θ = 1 scheme (index 0) is only conditionally stable (ω h < 2): a plate
+    // whose lowest 8 modes already lie above that at the bank's rate refuses its notes (the
+    // refusal is counted and shown); the other schemes must accept every note.
+    if v.index_of(ParamId::Scheme) != 0 || what.contains("theta") {
+        assert_eq!(e.refused_notes(), 0, "{what}: the note was refused");
+    }
     l.iter().chain(&r).fold(0.0f32, |m, x| m.max(x.abs()))
 }
 
@@ -137,4 +145,19 @@ fn every_parameter_at_its_bounds_builds() {
             }
         }
     }
+}
+
+/// The lecture's gong with the conservative θ = 1 scheme, at its root key, sounds: the bank's
+/// rate keeps the band within the scheme's stability limit and the note takes the largest
+/// tier it integrates stably (at the rate of the exact schemes every note was refused).
+#[test]
+fn the_theta1_scheme_plays_the_gong() {
+    let mut v = noether::engine::Preset::factory_named("gong-40N")
+        .unwrap()
+        .values()
+        .unwrap();
+    v.set(ParamId::Scheme, 0.0).unwrap();
+    v.set(ParamId::Modes, 64.0).unwrap();
+    let peak = play(&v, 48_000.0, 0.1, "gong-40N with the theta = 1 scheme");
+    assert!(peak > 1e-3, "silent (peak {peak})");
 }

@@ -81,6 +81,7 @@ impl Bank {
             sim_rate = plate_sim_rate(
                 v.get(ParamId::BandLimit) as f64,
                 v.get(ParamId::SimRate) as f64,
+                v.index_of(ParamId::Scheme),
             );
             voices = plate_voices(kind, v, sim_rate, voices_n, cache)?;
         } else {

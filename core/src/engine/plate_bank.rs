@@ -20,10 +20,23 @@ use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlatePar
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-/// Simulation rate (Hz) of a plate bank with band limit `band_hz` and rate floor `floor_hz`
-/// (module doc).
-pub fn plate_sim_rate(band_hz: f64, floor_hz: f64) -> f64 {
-    ((band_hz / HEARD_FRACTION / 100.0).ceil() * 100.0).max(floor_hz)
+/// Largest `ω h` of a mode at the band limit for the scheme without an exact linear part
+/// (the conservative θ = 1 scheme, stable for `ω h < 2`): 1.5 leaves room for a note bent up
+/// by 4 semitones (`1.5 · 2^(4/12) = 1.89`).
+const THETA1_OMEGA_H: f64 = 1.5;
+
+/// Simulation rate (Hz) of a plate bank with band limit `band_hz`, rate floor `floor_hz` and
+/// scheme `scheme` (the `scheme` parameter's index): `band / 0.45` rounded up to 100 Hz (module
+/// doc), and for the conservative θ = 1 scheme (index 0), conditionally stable, at least
+/// `2π band / 1.5` (so every mode under the band has `ω h ≤ 1.5`).
+pub fn plate_sim_rate(band_hz: f64, floor_hz: f64, scheme: usize) -> f64 {
+    let heard = band_hz / HEARD_FRACTION;
+    let stable = if scheme == 0 {
+        2.0 * PI * band_hz / THETA1_OMEGA_H
+    } else {
+        0.0
+    };
+    ((heard.max(stable) / 100.0).ceil() * 100.0).max(floor_hz)
 }
 
 /// A polar parameter pair `(r, angle)` as a position: circular plates read it as it is;

@@ -114,11 +114,12 @@ pub fn finish(
         .log_between(band_range.min as f64, band_range.max as f64)
         .round();
     let kind = ModelKind::from_index(model);
+    let scheme = d.value(info(ParamId::Scheme));
     // The rate the bank will run at (the parameters are `f32`).
     let rate_of = |sim_rate: f64, band: f64| {
         let sim = sim_rate as f32 as f64;
         if kind.is_plate() {
-            plate_sim_rate(band as f32 as f64, sim)
+            plate_sim_rate(band as f32 as f64, sim, scheme as usize)
         } else {
             sim
         }
@@ -150,7 +151,7 @@ pub fn finish(
     if !kind.is_plate() {
         params.set(ParamId::Size, d.value(info(ParamId::Size)))?;
     }
-    params.set(ParamId::Scheme, d.value(info(ParamId::Scheme)))?;
+    params.set(ParamId::Scheme, scheme)?;
     params.set(ParamId::Modes, modes as f32)?;
     params.set(ParamId::InPlaneModes, in_plane as f32)?;
     params.set(ParamId::Polyphony, poly as f32)?;

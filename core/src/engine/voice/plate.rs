@@ -175,7 +175,8 @@ impl PlateVoice {
     }
 
     /// Prepares a fresh note: the smallest tier holding every mode under the band limit (the
-    /// largest when the budget stops first), that model at rest, and the strike frame at the
+    /// largest when the budget stops first; for the θ = 1 scheme at most the largest tier it
+    /// integrates stably), that model at rest, and the strike frame at the
     /// current strike angle. Audio thread, O(N_Φ), no allocation.
     pub fn begin(&mut self, p: &Physics, key: u8) {
         let (scale, ..) = self.note_scalars(p, key);
@@ -186,6 +187,17 @@ impl PlateVoice {
             .rev()
             .find(|&k| tiers[k].0 >= n_band)
             .unwrap_or(0);
+        // The conditionally stable scheme (θ = 1: ω h < 2) takes the largest tier whose top
+        // mode is within ω h ≤ 1.9; the bank's rate keeps the band itself within 1.5.
+        if !self.models[0].scheme().exact_linear_part() {
+            let stable = |k: usize| {
+                let top = tiers[k].0.min(self.data.lambda2.len()).max(1) - 1;
+                self.data.lambda2[top] * scale / self.fs <= 1.9
+            };
+            while !stable(self.tier) && self.tier + 1 < tiers.len() {
+                self.tier += 1;
+            }
+        }
         let angle = p.values.get(ParamId::StrikeAngle) as f64;
         self.set_frame(angle);
         self.models[self.tier].reset();
