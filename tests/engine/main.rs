@@ -11,6 +11,7 @@ mod cascade;
 mod engine;
 mod engine_alloc;
 mod engine_threads;
+mod pitch_from_sound;
 mod preset_levels;
 mod string_presets;
 mod tiers;
