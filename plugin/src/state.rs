@@ -29,6 +29,7 @@
 //! Threads: the host's main thread (state load), never the audio thread.
 
 use nice_plug::plugin::{ParamValue, PluginState};
+use noether_core::engine::preset::enum_keys;
 use noether_core::engine::{
     legacy_bridge_fraction, ParamId, ParamInfo, ParamKind, LEGACY_BRIDGE_POSITION, PARAMS,
 };
@@ -156,7 +157,8 @@ fn is_int(info: &ParamInfo) -> bool {
 
 /// The saved value `v` for `info` as a number, or `None` (with `converted = false`) when it
 /// has no exact numeric meaning for this parameter. Enumeration names are matched ignoring
-/// case, as the parameter's text input does.
+/// case, as the parameter's text input does: the display names (`"rectangular plate (simply
+/// supported)"`) or the names preset files use (`"rect-plate"`, `"sav"`).
 fn number_of(info: &ParamInfo, v: &ParamValue) -> (Option<f64>, bool) {
     match (v, is_int(info)) {
         (ParamValue::F32(x), false) => (Some(f64::from(*x)), true),
@@ -170,6 +172,11 @@ fn number_of(info: &ParamInfo, v: &ParamValue) -> (Option<f64>, bool) {
                 ParamKind::Enum { names } => names
                     .iter()
                     .position(|n| n.eq_ignore_ascii_case(s.trim()))
+                    .or_else(|| {
+                        enum_keys(info.id)?
+                            .iter()
+                            .position(|n| n.eq_ignore_ascii_case(s.trim()))
+                    })
                     .map(|i| i as f64),
                 _ => None,
             };
@@ -400,6 +407,24 @@ mod tests {
             text[1].contains("`polyphony` = -5 is outside [1, 16]"),
             "{text:?}"
         );
+    }
+
+    /// Enumerations saved by the names preset files use (a preset's `[params]` table written
+    /// as a state) load as those values: before, `"rect-plate"` and `"sav"` were not found
+    /// among the display names and silently became the defaults (the gong).
+    #[test]
+    fn preset_file_enum_names_convert() {
+        let mut s = full_state();
+        s.params
+            .insert("model".into(), ParamValue::String("rect-plate".into()));
+        s.params
+            .insert("scheme".into(), ParamValue::String("Stormer-Verlet".into()));
+        s.params
+            .insert("material".into(), ParamValue::String("bronze".into()));
+        repair(&mut s, V);
+        assert_eq!(value(&s, ParamId::Model), 2.0);
+        assert_eq!(value(&s, ParamId::Scheme), 2.0);
+        assert_eq!(value(&s, ParamId::Material), 1.0);
     }
 
     /// Wrong types: exact conversions kept, everything else the default; all reported.
