@@ -12,7 +12,7 @@ use clack_host::prelude::*;
 use std::ffi::CString;
 use std::path::Path;
 
-use crate::host::{list_params, new_instance, values, Param, TestHost};
+use crate::host::{list_params, new_instance, process_stereo, values, Param, TestHost};
 
 /// The value the host writes into every output sample before `process`: a quiet NaN with a
 /// payload of its own, so a sample the plugin did not write is told apart from a NaN it wrote.
@@ -420,24 +420,17 @@ fn run_blocks(
                 in_buf.push(&NoteOffEvent::new((off - pos) as u32, pckn, 0.0));
             }
         }
-        out_buf.clear();
         left[..n].fill(f32::from_bits(UNWRITTEN));
         right[..n].fill(f32::from_bits(UNWRITTEN));
-        let mut outputs = ports.with_output_buffers([AudioPortBuffer {
-            latency: 0,
-            channels: AudioPortBufferType::f32_output_only(
-                [&mut left[..n], &mut right[..n]].into_iter(),
-            ),
-        }]);
-        proc.process(
-            &InputAudioBuffers::empty(),
-            &mut outputs,
-            &InputEvents::from_buffer(&in_buf),
-            &mut OutputEvents::from_buffer(&mut out_buf),
-            Some(pos as u64),
-            None,
+        process_stereo(
+            proc,
+            &mut ports,
+            &in_buf,
+            &mut out_buf,
+            [&mut left[..n], &mut right[..n]],
+            pos as u64,
         )
-        .map_err(|e| format!("process of {n} frames at frame {pos}: {e:?}"))?;
+        .map_err(|e| format!("process of {n} frames at frame {pos}: {e}"))?;
         out.left.extend_from_slice(&left[..n]);
         out.right.extend_from_slice(&right[..n]);
         out.blocks += 1;

@@ -450,22 +450,15 @@ fn perform(
         if let Some(h) = hostile.as_mut() {
             h.push_events(&mut in_buf);
         }
-        out_buf.clear();
-        let mut outputs = ports.with_output_buffers([AudioPortBuffer {
-            latency: 0,
-            channels: AudioPortBufferType::f32_output_only(
-                [&mut left[..n], &mut right[..n]].into_iter(),
-            ),
-        }]);
-        proc.process(
-            &InputAudioBuffers::empty(),
-            &mut outputs,
-            &InputEvents::from_buffer(&in_buf),
-            &mut OutputEvents::from_buffer(&mut out_buf),
-            Some(pos),
-            None,
+        process_stereo(
+            &mut proc,
+            &mut ports,
+            &in_buf,
+            &mut out_buf,
+            [&mut left[..n], &mut right[..n]],
+            pos,
         )
-        .map_err(|e| format!("process at frame {pos}: {e:?}"))?;
+        .map_err(|e| format!("process at frame {pos}: {e}"))?;
         for i in 0..n {
             out.push(left[i]);
             out.push(right[i]);
@@ -486,6 +479,34 @@ fn perform(
 }
 
 /// `render`: the whole session.
+/// One `process` call of a started instance with no audio input, the events of `in_buf` and
+/// the stereo output `out` (the output events buffer is cleared first), at steady time `pos`.
+/// Main thread, which plays the host's audio thread.
+pub(crate) fn process_stereo(
+    proc: &mut StartedPluginAudioProcessor<TestHost>,
+    ports: &mut AudioPorts,
+    in_buf: &EventBuffer,
+    out_buf: &mut EventBuffer,
+    out: [&mut [f32]; 2],
+    pos: u64,
+) -> Result<(), String> {
+    out_buf.clear();
+    let mut outputs = ports.with_output_buffers([AudioPortBuffer {
+        latency: 0,
+        channels: AudioPortBufferType::f32_output_only(out.into_iter()),
+    }]);
+    proc.process(
+        &InputAudioBuffers::empty(),
+        &mut outputs,
+        &InputEvents::from_buffer(in_buf),
+        &mut OutputEvents::from_buffer(out_buf),
+        Some(pos),
+        None,
+    )
+    .map(|_| ())
+    .map_err(|e| format!("{e:?}"))
+}
+
 pub fn render(o: &RenderOptions) -> Result<(), String> {
     // SAFETY: loading a shared library runs its initialisers; the path is the plugin under test.
     let entry = unsafe { PluginEntry::load(&o.plugin) }
