@@ -1,6 +1,6 @@
 //! `check`: the acceptance test every plugin render goes through (the CLAP host's, pedalboard's
-//! and the JACK recording of the standalone): finite, at most 0 dBFS, non-silent, decaying after
-//! the note-off.
+//! and the JACK recording of the standalone): finite, at most 0 dBFS, non-silent, still sounding
+//! at the note-off, decaying after it.
 
 use crate::{parse_num, path_arg};
 use std::path::PathBuf;
@@ -21,10 +21,21 @@ pub struct CheckOptions {
     /// The largest acceptable |sample| anywhere in the file (default 1.0: 0 dBFS, the bound of
     /// the engine's output stage).
     pub max_peak: f64,
+    /// The smallest acceptable RMS (full scale 1.0) of the 100 ms before the note-off: the note
+    /// must still sound when it is released, or the decay check compares silence with silence.
+    /// 0 turns the check off (and the decay check with it when that RMS is 0).
+    pub min_level: f64,
 }
 
+/// Default of [`CheckOptions::min_level`]: 1e-3 (-60 dBFS). The quietest legitimate render of
+/// the plugin CI measured 1.7e-2 (-35.3 dBFS: the out-of-range state blob's, a 3 m plate); the
+/// others 6.0e-2 (`clap.wav`, -6 dB output gain) to 2.8e-1; this floor is 25 dB below the
+/// quietest and far above a render that fell to exact zeros (0) or to the float rounding of a
+/// finished decay.
+pub const DEFAULT_MIN_LEVEL: f64 = 1e-3;
+
 impl CheckOptions {
-    /// Parses `FILE --note-off S [--from-onset] [--min-peak X] [--max-peak X]`.
+    /// Parses `FILE --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]`.
     pub fn parse(args: &[String]) -> Result<Self, String> {
         let mut it = args.iter();
         let file = path_arg("FILE.wav", it.next())?;
@@ -34,12 +45,14 @@ impl CheckOptions {
         // float rounding floor of a silent render (exactly 0) or dither.
         let mut min_peak = 1e-4;
         let mut max_peak = 1.0;
+        let mut min_level = DEFAULT_MIN_LEVEL;
         while let Some(flag) = it.next() {
             match flag.as_str() {
                 "--note-off" => note_off = Some(parse_num(flag, it.next())?),
                 "--from-onset" => from_onset = true,
                 "--min-peak" => min_peak = parse_num(flag, it.next())?,
                 "--max-peak" => max_peak = parse_num(flag, it.next())?,
+                "--min-level" => min_level = parse_num(flag, it.next())?,
                 other => return Err(format!("unknown option `{other}`")),
             }
         }
@@ -49,6 +62,7 @@ impl CheckOptions {
             from_onset,
             min_peak,
             max_peak,
+            min_level,
         })
     }
 }
@@ -160,6 +174,21 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
     if peak < o.min_peak {
         return Err(format!("silent: peak {peak:e} below {:e}", o.min_peak));
     }
+    // Still sounding at the note-off: without it the decay check below compares silence with
+    // silence (0 > 0.5 * 0 is false) and passes a note that stopped long before its release.
+    if before < o.min_level {
+        let last = frames[..off].iter().rposition(|&v| v > o.min_peak);
+        let last = last.map_or("never".to_string(), |i| {
+            format!("last at {:.4} s", (i as f64) / rate_f)
+        });
+        return Err(format!(
+            "not sounding at the note-off: RMS of the 100 ms before it {before:.3e} below the \
+             floor {:e} (--min-level); samples above {:e}: {last}, note-off at {:.4} s",
+            o.min_level,
+            o.min_peak,
+            off as f64 / rate_f
+        ));
+    }
     // Decaying: the last 100 ms at least 6 dB below the 100 ms before the note-off. A released
     // voice loses energy exponentially; 6 dB is a small fraction of what any release in the
     // presets removes over the render's tail, and a voice that ignored the note-off (or grew)
@@ -169,8 +198,14 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
             "not decaying after note-off: last 100 ms RMS {tail:e} > half of {before:e}"
         ));
     }
+    // Only with --min-level 0: nothing sounds at the note-off, so there is no decay to see.
+    let decay = if before > 0.0 {
+        "decaying after note-off"
+    } else {
+        "silent before the note-off (allowed by --min-level 0): decay not checked"
+    };
     println!(
-        "ok: finite, at most {:+.1} dBFS, non-silent, decaying after note-off",
+        "ok: finite, at most {:+.1} dBFS, non-silent, {decay}",
         20.0 * o.max_peak.log10()
     );
     Ok(())
@@ -180,37 +215,24 @@ pub fn check(o: &CheckOptions) -> Result<(), String> {
 mod tests {
     use super::*;
 
-    /// Writes a 16-bit stereo WAV at 48 kHz into the temporary directory: `silence` s of
-    /// zeros, then a 440 Hz tone of amplitude 0.5 held for 1 s and decaying afterwards with
-    /// time constant `tau` s (infinite: no decay), `total` s in all.
+    use crate::testwav;
+
+    /// A 16-bit stereo WAV at 48 kHz: `silence` s of zeros, then a 440 Hz tone of amplitude
+    /// 0.5 held for 1 s and decaying afterwards with time constant `tau` s (infinite: no
+    /// decay), `total` s in all.
     fn wav(name: &str, silence: f64, tau: f64, total: f64) -> PathBuf {
-        let path =
-            std::env::temp_dir().join(format!("noether-check-{}-{name}.wav", std::process::id()));
-        let spec = hound::WavSpec {
-            channels: 2,
-            sample_rate: 48_000,
-            bits_per_sample: 16,
-            sample_format: hound::SampleFormat::Int,
-        };
-        let mut w = hound::WavWriter::create(&path, spec).unwrap();
-        for i in 0..(total * 48_000.0) as usize {
-            let t = i as f64 / 48_000.0 - silence;
-            let x = if t < 0.0 {
-                0.0
+        testwav::write(&format!("check-{name}"), 48_000, total, false, |t| {
+            let t = t - silence;
+            if t < 0.0 {
+                return 0.0;
+            }
+            let env = if t < 1.0 {
+                1.0
             } else {
-                let env = if t < 1.0 {
-                    1.0
-                } else {
-                    (-(t - 1.0) / tau).exp()
-                };
-                0.5 * env * (2.0 * std::f64::consts::PI * 440.0 * t).sin()
+                (-(t - 1.0) / tau).exp()
             };
-            let s = (x * 32767.0).round() as i16;
-            w.write_sample(s).unwrap();
-            w.write_sample(s).unwrap();
-        }
-        w.finalize().unwrap();
-        path
+            0.5 * env * (2.0 * std::f64::consts::PI * 440.0 * t).sin()
+        })
     }
 
     fn from_onset(file: PathBuf) -> CheckOptions {
@@ -220,6 +242,7 @@ mod tests {
             from_onset: true,
             min_peak: 1e-4,
             max_peak: 1.0,
+            min_level: DEFAULT_MIN_LEVEL,
         }
     }
 
@@ -263,6 +286,59 @@ mod tests {
         };
         let e = check(&o).unwrap_err();
         assert!(e.contains("above 4e-1") && e.contains("-6.0 dBFS"), "{e}");
+        std::fs::remove_file(f).ok();
+    }
+
+    #[test]
+    fn a_note_that_stopped_before_the_note_off_fails() {
+        // The reviewer's broken render: a loud start, then exact zeros from 28.8 ms, 971 ms
+        // before the note-off at 1 s. Both RMS values of the decay check are 0 (0 > 0.5 * 0 is
+        // false): the level floor must fail it, naming the floor and where the sound ended.
+        let f = testwav::write("check-stopped", 48_000, 3.0, false, |t| {
+            if t < 0.0288 {
+                0.5 * (2.0 * std::f64::consts::PI * 440.0 * t).sin()
+            } else {
+                0.0
+            }
+        });
+        let o = CheckOptions {
+            file: f.clone(),
+            note_off: 1.0,
+            from_onset: false,
+            min_peak: 1e-4,
+            max_peak: 1.0,
+            min_level: DEFAULT_MIN_LEVEL,
+        };
+        let e = check(&o).unwrap_err();
+        assert!(
+            e.contains("not sounding at the note-off")
+                && e.contains("0.000e0 below the floor 1e-3")
+                && e.contains("last at 0.028"),
+            "{e}"
+        );
+        // With the floor off (--min-level 0) it passes, saying the decay was not checked.
+        assert_eq!(
+            check(&CheckOptions {
+                min_level: 0.0,
+                ..o
+            }),
+            Ok(())
+        );
+        std::fs::remove_file(f).ok();
+    }
+
+    #[test]
+    fn a_note_sounding_at_the_note_off_passes_the_floor() {
+        // The tone of `wav` is held at amplitude 0.5 (RMS 0.35) until the note-off, 51 dB
+        // above the floor; a floor above 0.35 fails the same file (the comparison can fail).
+        let f = wav("held-to-off", 0.7, 0.2, 3.0);
+        assert_eq!(check(&from_onset(f.clone())), Ok(()));
+        let o = CheckOptions {
+            min_level: 0.4,
+            ..from_onset(f.clone())
+        };
+        let e = check(&o).unwrap_err();
+        assert!(e.contains("not sounding at the note-off"), "{e}");
         std::fs::remove_file(f).ok();
     }
 }

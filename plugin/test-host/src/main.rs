@@ -16,6 +16,8 @@ mod conform_render;
 mod host;
 mod hostile;
 mod state_load;
+#[cfg(test)]
+mod testwav;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -25,7 +27,8 @@ use std::process::ExitCode;
 enum Command {
     /// `render PLUGIN.clap OUT.wav [options]`.
     Render(host::RenderOptions),
-    /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X]`.
+    /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X] [--max-peak X]
+    /// [--min-level X]`.
     Check(check::CheckOptions),
     /// `conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP,...]`.
     Conform(conform::ConformOptions),
@@ -35,7 +38,7 @@ fn usage() -> &'static str {
     "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
      [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip] [--hostile-automation]\n      \
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
-     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X]\n  \
+     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]\n  \
      noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]"
 }
 
