@@ -67,11 +67,11 @@ impl CheckOptions {
     }
 }
 
-/// Reads a WAV into per-frame peak magnitude across channels (and reports non-finite samples).
-fn read_frames(path: &PathBuf) -> Result<(Vec<f64>, u32, usize), String> {
+/// Reads a WAV (integer or float, any channel count) into its interleaved samples (full scale
+/// 1.0), its channel count and its sample rate in Hz.
+pub(crate) fn read_wav(path: &PathBuf) -> Result<(Vec<f64>, usize, u32), String> {
     let mut r = hound::WavReader::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let spec = r.spec();
-    let ch = spec.channels as usize;
     let samples: Vec<f64> = match spec.sample_format {
         hound::SampleFormat::Float => r
             .samples::<f32>()
@@ -85,12 +85,18 @@ fn read_frames(path: &PathBuf) -> Result<(Vec<f64>, u32, usize), String> {
         }
     }
     .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok((samples, usize::from(spec.channels), spec.sample_rate))
+}
+
+/// Reads a WAV into per-frame peak magnitude across channels (and reports non-finite samples).
+fn read_frames(path: &PathBuf) -> Result<(Vec<f64>, u32, usize), String> {
+    let (samples, ch, rate) = read_wav(path)?;
     let bad = samples.iter().filter(|s| !s.is_finite()).count();
     let frames = samples
         .chunks(ch)
         .map(|f| f.iter().fold(0.0f64, |m, s| m.max(s.abs())))
         .collect();
-    Ok((frames, spec.sample_rate, bad))
+    Ok((frames, rate, bad))
 }
 
 fn rms(x: &[f64]) -> f64 {

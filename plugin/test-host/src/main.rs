@@ -10,6 +10,7 @@
 //! is what an offline bounce in a DAW does.
 
 mod check;
+mod compare;
 mod conform;
 mod conform_params;
 mod conform_render;
@@ -30,6 +31,9 @@ enum Command {
     /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X] [--max-peak X]
     /// [--min-level X]`.
     Check(check::CheckOptions),
+    /// `compare A.wav B.wav [--seconds S] [--max-freq HZ] [--max-level-db X] [--max-lsd-db X]
+    /// [--max-cents X]`.
+    Compare(compare::CompareOptions),
     /// `conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP,...]`.
     Conform(conform::ConformOptions),
 }
@@ -39,6 +43,7 @@ fn usage() -> &'static str {
      [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip] [--hostile-automation]\n      \
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
      noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]\n  \
+     noether-test-host compare A.wav B.wav [--seconds S] [--max-freq HZ] [--max-level-db X] [--max-lsd-db X] [--max-cents X]\n  \
      noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]"
 }
 
@@ -47,6 +52,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     match cmd.as_str() {
         "render" => host::RenderOptions::parse(rest).map(Command::Render),
         "check" => check::CheckOptions::parse(rest).map(Command::Check),
+        "compare" => compare::CompareOptions::parse(rest).map(Command::Compare),
         "conform" => conform::ConformOptions::parse(rest).map(Command::Conform),
         other => Err(format!("unknown command `{other}`\n{}", usage())),
     }
@@ -75,6 +81,7 @@ fn main() -> ExitCode {
     let result = parse_args(&args).and_then(|cmd| match cmd {
         Command::Render(opts) => host::render(&opts),
         Command::Check(opts) => check::check(&opts),
+        Command::Compare(opts) => compare::compare(&opts),
         Command::Conform(opts) => conform::conform(&opts),
     });
     match result {
