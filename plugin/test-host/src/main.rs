@@ -1,10 +1,11 @@
 //! `noether-test-host`: a small CLAP host built on `clack-host` that loads
 //! `noether-plugin.clap`, lists its parameters, sets some of them, plays notes with MIDI
 //! expression (pitch bend, mod wheel, sustain) and renders a stereo WAV; plus `check`, which reads
-//! any WAV (ours, `jack_rec`'s, pedalboard's) and checks it is finite, non-silent and decaying
-//! after the note-off; and `conform`, the validators' checks (activation at unusual rates, block
-//! sizes, random and extreme parameters, state) on the CLAP build. CI runs them through
-//! `.ci/plugin`.
+//! any WAV (ours, `jack_rec`'s, pedalboard's) and checks it is finite, non-silent, still sounding
+//! at the note-off and decaying after it; `compare`, which checks that two renders of the same
+//! notes at different rates and block sizes agree (level, spectrum below 9 kHz, strongest
+//! partial); and `conform`, the validators' checks (activation at unusual rates, block sizes,
+//! random and extreme parameters, state) on the CLAP build. CI runs them through `.ci/plugin`.
 //!
 //! Everything runs on the main thread: the host calls `process` itself, block after block, which
 //! is what an offline bounce in a DAW does.
