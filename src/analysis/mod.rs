@@ -3,4 +3,5 @@
 
 pub use noether_core::analysis::*;
 
+pub mod fundamental;
 pub mod spectrogram;

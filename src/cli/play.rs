@@ -4,12 +4,14 @@
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use noether::engine::KeyTuning;
 use noether::render::midi::load_midi;
 use noether::render::play::{
     notes_timeline, parse_note, play, root_key, NoteSpec, PlaySettings, Timeline,
 };
 use noether::render::preset_engine::find_preset;
 use noether::render::report::{write_spectrogram, write_waveform_png};
+use noether::render::tuning::load_scala;
 use noether::render::wav::{write_wav, WavFormat};
 use noether::Error;
 use std::path::PathBuf;
@@ -61,6 +63,13 @@ pub struct PlayArgs {
     /// Folder for the PNG figures (waveform, spectrogram).
     #[arg(long)]
     pub plot: Option<PathBuf>,
+    /// A Scala scale file: the keys play its pitches instead of 12-tone equal temperament
+    /// (degree 0 on key 60 at 261.626 Hz unless --kbm maps the keys).
+    #[arg(long, value_name = "FILE.scl")]
+    pub scl: Option<PathBuf>,
+    /// A Scala keyboard mapping for --scl (reference key and frequency, unmapped keys).
+    #[arg(long, value_name = "FILE.kbm", requires = "scl")]
+    pub kbm: Option<PathBuf>,
     /// No progress bar.
     #[arg(long, short)]
     pub quiet: bool,
@@ -87,10 +96,23 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
     let found = find_preset(&a.preset)?;
     let root = root_key(&found.preset)?;
     let tl = timeline(&a, root)?;
+    let tuning = match &a.scl {
+        Some(scl) => {
+            let t = load_scala(scl, a.kbm.as_deref())?;
+            eprintln!(
+                "tuning: {} ({} keys mapped)",
+                t.description,
+                t.table.mapped_keys()
+            );
+            t.table
+        }
+        None => KeyTuning::equal(),
+    };
     let settings = PlaySettings {
         host_rate: f64::from(a.rate),
         block: a.block,
         tail: a.tail,
+        tuning,
     };
     settings.validate()?;
     let (wav, report_path) = super::files::wav_and_report(

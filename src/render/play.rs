@@ -12,7 +12,9 @@
 //! Runs on the calling (CLI) thread.
 
 use super::preset_engine::{start_engine, FoundPreset, PresetEngine, BANK_TIMEOUT};
-use crate::engine::{Event, EventKind, ParamId, Preset, MAX_HOST_RATE, MAX_VOICES, MIN_HOST_RATE};
+use crate::engine::{
+    Event, EventKind, KeyTuning, ParamId, Preset, MAX_HOST_RATE, MAX_VOICES, MIN_HOST_RATE,
+};
 use crate::error::{check_closed, Error, ParamError};
 use serde::Serialize;
 
@@ -218,6 +220,9 @@ pub struct PlaySettings {
     pub block: usize,
     /// Seconds rendered after the timeline's last event.
     pub tail: f64,
+    /// The pitch of every key (12-TET: [`KeyTuning::equal`]; a Scala file:
+    /// [`crate::render::tuning::load_scala`]).
+    pub tuning: KeyTuning,
 }
 
 impl PlaySettings {
@@ -363,6 +368,8 @@ pub fn play(
         settings.block,
         BANK_TIMEOUT,
     )?;
+    // Taken by the engine at its first block, before any note.
+    params.tuning().set(&settings.tuning);
     let rate = settings.host_rate;
     let total = (seconds * rate).round() as usize;
     let at = |t: f64| ((t * rate).round() as usize).min(total.saturating_sub(1));

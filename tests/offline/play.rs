@@ -3,7 +3,8 @@
 
 use midly::num::{u15, u24, u28, u4, u7};
 use midly::{Format, Header, MetaMessage, MidiMessage, Smf, Timing, TrackEvent, TrackEventKind};
-use noether::engine::{ParamId, Preset};
+use noether::analysis::fundamental::fundamental_near;
+use noether::engine::{KeyTuning, ParamId, Preset};
 use noether::render::play::{notes_timeline, play, NoteSpec, PlaySettings};
 use noether::render::preset_engine::find_preset;
 use std::path::PathBuf;
@@ -143,6 +144,82 @@ fn bad_values_are_refused_clearly() {
     );
 }
 
+/// `--scl` (and `--kbm`) tune the keys: a 19-EDO scale through the ideal sitar string plays
+/// key 79 an octave above key 60 (19 keys, not 12: in 12-TET they are 1900 cents apart). The
+/// fundamentals of the two renders are an octave apart within 2 cents: the bridge contact of
+/// the sitar moves each note's fundamental a little with its amplitude (measured 0.08 cent);
+/// the tuning itself is checked to 0.1 cent through the engine on the untouched string
+/// (`tests/engine/pitch_from_sound.rs`). A bad scale file or a
+/// `--kbm` without `--scl` is refused naming the file or the flag.
+#[test]
+fn scala_files_tune_the_keys() {
+    let dir = scratch("scl");
+    let steps: Vec<String> = (1..=19)
+        .map(|i| format!(" {:.12}", 1200.0 * f64::from(i) / 19.0))
+        .collect();
+    let scl = dir.join("19.scl");
+    std::fs::write(
+        &scl,
+        format!("! 19.scl\n19-EDO\n 19\n!\n{}\n", steps.join("\n")),
+    )
+    .unwrap();
+    let f1 = |key: &str| {
+        let wav = dir.join(format!("k{key}.wav"));
+        let out = noether(&[
+            "play",
+            "sitar-b0",
+            "-q",
+            "--scl",
+            scl.to_str().unwrap(),
+            "--note",
+            &format!("{key}:127:1"),
+            "--tail",
+            "0",
+            "-o",
+            wav.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{stderr}");
+        assert!(
+            stderr.contains("tuning: 19-EDO") && stderr.contains("128 keys mapped"),
+            "{stderr}"
+        );
+        let (rate, ch, s) = read_wav(&wav);
+        let left: Vec<f64> = s
+            .iter()
+            .step_by(usize::from(ch))
+            .map(|&x| f64::from(x))
+            .collect();
+        // The fundamental isolated within 40 Hz (the sitar's bridge makes its other
+        // partials strong), expected near 19-EDO's C4 (262.1 Hz) and C5.
+        let expect = if key == "60" { 262.1 } else { 524.3 };
+        fundamental_near(&left, f64::from(rate), expect, 40.0).expect("an oscillation")
+    };
+    let cents = 1200.0 * (f1("79") / f1("60")).log2() - 1200.0;
+    println!("19-EDO key 79 over key 60: octave {cents:+.3e} cents");
+    assert!(cents.abs() < 2.0, "{cents} cents from an octave");
+    std::fs::write(dir.join("bad.scl"), "not a scale").unwrap();
+    let out = noether(&[
+        "play",
+        "sitar-b0",
+        "-q",
+        "--scl",
+        dir.join("bad.scl").to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("bad.scl"),
+        "{stderr}"
+    );
+    let out = noether(&["play", "sitar-b0", "-q", "--kbm", "x.kbm"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && stderr.contains("--scl"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 fn midi_note(on: bool, key: u8, vel: u8) -> TrackEventKind<'static> {
     let (key, vel) = (u7::new(key), u7::new(vel));
     TrackEventKind::Midi {
@@ -248,6 +325,7 @@ fn notes_start_at_their_sample() {
         host_rate: 48_000.0,
         block: 512,
         tail: 0.05,
+        tuning: KeyTuning::equal(),
     };
     let p = play(&preset, &tl, &settings, |_| {}).unwrap();
     let left = &p.out[0];

@@ -8,6 +8,7 @@ use super::output::OutputStage;
 use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
 use super::pool::Pool;
 use super::telemetry::Telemetry;
+use super::tuning::KeyTuning;
 use super::voice::Physics;
 use crate::error::{check_closed, ParamError};
 use crossbeam_channel::{bounded, Receiver, Sender};
@@ -67,6 +68,12 @@ pub struct Engine {
     pub(super) host_rate: f64,
     pub(super) max_block: usize,
     pub(super) bend: f32,
+    /// The key table the voices play (taken from `params.tuning()` at block starts).
+    pub(super) key_tuning: KeyTuning,
+    /// Sequence number of `key_tuning` in `params.tuning()`, and of the table the sounding
+    /// voices were last tuned with.
+    pub(super) tuning_seen: u64,
+    pub(super) tuning_applied: u64,
     pub(super) wheel: f32,
     pub(super) sustain: bool,
     pub(super) frame: u64,
@@ -128,6 +135,9 @@ impl Engine {
             host_rate: 48_000.0,
             max_block: 0,
             bend: 0.0,
+            key_tuning: params.tuning().get(),
+            tuning_seen: params.tuning().sequence(),
+            tuning_applied: params.tuning().sequence(),
             wheel: 0.5,
             sustain: false,
             frame: 0,
@@ -208,6 +218,7 @@ impl Engine {
         self.output = OutputStage::new(host_rate);
         self.values = values;
         self.applied = (values, self.bend);
+        self.tuning_applied = self.tuning_seen;
         self.bank = Some(bank);
         self.reset();
         let worker = Worker::spawn(WorkerSetup {
@@ -279,6 +290,9 @@ impl Engine {
         let n = left.len().min(right.len());
         self.poll_commands();
         self.values = self.params.snapshot();
+        if let Some(t) = self.params.tuning().read_if_changed(&mut self.tuning_seen) {
+            self.key_tuning = t;
+        }
         let mut ev = 0;
         let mut pos = 0;
         while pos < n {
@@ -330,6 +344,7 @@ impl Engine {
         Physics {
             values: self.values,
             bend: self.bend,
+            tuning: self.key_tuning,
         }
     }
 
@@ -346,8 +361,11 @@ impl Engine {
             return;
         }
         match kind {
+            // A key the tuning leaves unmapped (a Scala `.kbm` 'x') plays nothing.
             EventKind::NoteOn { key, velocity } if velocity > 0.0 && velocity.is_finite() => {
-                self.start_note(key.min(127), velocity.min(1.0))
+                if self.key_tuning.is_mapped(key.min(127)) {
+                    self.start_note(key.min(127), velocity.min(1.0))
+                }
             }
             EventKind::NoteOn { key, .. } | EventKind::NoteOff { key } => self.release(key),
             EventKind::PitchBend(x) if x.is_finite() => {
@@ -454,6 +472,7 @@ impl Engine {
     fn retune_voices(&mut self, len: usize) {
         self.retune_wait = self.retune_wait.saturating_sub(len);
         let changed = self.applied.1 != self.bend
+            || self.tuning_applied != self.tuning_seen
             || PARAMS
                 .iter()
                 .filter(|p| !p.rebuild)
@@ -462,6 +481,7 @@ impl Engine {
             return;
         }
         self.applied = (self.values, self.bend);
+        self.tuning_applied = self.tuning_seen;
         self.retune_wait = (RETUNE_INTERVAL * self.host_rate) as usize;
         let p = self.physics();
         if let Some(b) = self.bank.as_mut() {

@@ -69,5 +69,6 @@ impl Engine {
         }
         // Notes of the new bank take the current tuning at their start.
         self.applied = (self.values, self.bend);
+        self.tuning_applied = self.tuning_seen;
     }
 }

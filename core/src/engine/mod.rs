@@ -88,6 +88,14 @@
 //! zeroes non-finite ones, so no setting sends a host more than full scale ([`output`]).
 //! Each note's level follows the `key_level` tracking (dB per octave from the root key).
 //!
+//! # Tuning
+//!
+//! Key `k` plays the pitch `p(k)` of the [`KeyTuning`] table in [`SharedParams::tuning`]
+//! (12-tone equal temperament, `p(k) = k`, unless a host or GUI thread publishes another, for
+//! instance from a Scala file): the pitch ratio to the root key is
+//! `2^((p(k) - root + bend)/12) · a4/440`. The audio thread takes a new table at a block start
+//! (lock-free, see [`tuning`]) and retunes the sounding voices like a bend.
+//!
 //! # Voices
 //!
 //! Polyphony is fixed per bank (parameter, 1..16). A note takes the voice already playing its
@@ -112,6 +120,7 @@ pub mod preset;
 mod readout;
 pub mod resample;
 mod telemetry;
+pub mod tuning;
 pub mod voice;
 
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
@@ -131,4 +140,5 @@ pub use preset::{legacy_bridge_fraction, Preset, PresetValue, LEGACY_BRIDGE_POSI
 pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
 };
+pub use tuning::{KeyTuning, SharedTuning, KEY_COUNT};
 pub use voice::VOICE_CEILING;

@@ -12,6 +12,7 @@
 //! refuses out-of-range or non-finite values with a [`ParamError`] naming the parameter, the
 //! value and the range: the host layer clamps and reports, the engine never clamps silently.
 
+use super::tuning::SharedTuning;
 use crate::error::ParamError;
 use crate::models::ranges as r;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
@@ -333,7 +334,7 @@ impl Default for ParamValues {
 }
 
 /// Parameter values shared by host, GUI, worker and audio thread: one `AtomicU32` holding the
-/// bits of an `f32` per parameter, plus a change counter.
+/// bits of an `f32` per parameter, plus a change counter, and the key table ([`Self::tuning`]).
 ///
 /// Share it as `Arc<SharedParams>`. All methods are lock-free and allocation-free (except the
 /// error path of [`Self::set`]); relaxed ordering suffices per value, the counter is
@@ -342,6 +343,7 @@ impl Default for ParamValues {
 pub struct SharedParams {
     values: [AtomicU32; PARAM_COUNT],
     generation: AtomicU64,
+    tuning: SharedTuning,
 }
 
 impl SharedParams {
@@ -355,7 +357,14 @@ impl SharedParams {
         Self {
             values: std::array::from_fn(|i| AtomicU32::new(v.0[i].to_bits())),
             generation: AtomicU64::new(0),
+            tuning: SharedTuning::default(),
         }
+    }
+
+    /// The key table (12-TET until a host or GUI thread publishes another with
+    /// [`SharedTuning::set`]; the audio thread reads it lock-free at each block start).
+    pub fn tuning(&self) -> &SharedTuning {
+        &self.tuning
     }
 
     /// The current value of `id`. Any thread, wait-free.

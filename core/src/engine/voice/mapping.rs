@@ -4,6 +4,7 @@
 //! Plain functions and `Copy` data, audio thread.
 
 use crate::engine::params::{ParamId, ParamValues};
+use crate::engine::tuning::KeyTuning;
 
 /// Largest normalised output of one voice (pickup velocity over the model's velocity
 /// reference, see [`crate::engine::PLATE_VELOCITY_REF`]): a voice past it is treated as diverged
@@ -22,11 +23,15 @@ pub(crate) struct Physics {
     pub values: ParamValues,
     /// Pitch bend in semitones.
     pub bend: f32,
+    /// The pitch of every key.
+    pub tuning: KeyTuning,
 }
 
-/// Pitch ratio of `key` (see the module doc of [`super`]).
-pub(crate) fn pitch_ratio(v: &ParamValues, key: u8, bend: f32) -> f64 {
-    let semis = key as f64 - v.get(ParamId::RootKey) as f64 + bend as f64;
+/// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend)/12) · a4/440`, `p` the
+/// key table (`p(k) = k` in 12-TET; see the module doc of [`super`]).
+pub(crate) fn pitch_ratio(p: &Physics, key: u8) -> f64 {
+    let v = &p.values;
+    let semis = p.tuning.pitch(key) - v.get(ParamId::RootKey) as f64 + p.bend as f64;
     (v.get(ParamId::TuningA4) as f64 / 440.0) * (semis / 12.0).exp2()
 }
 

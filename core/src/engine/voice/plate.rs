@@ -167,7 +167,7 @@ impl PlateVoice {
         let v = &p.values;
         let m = Material::from_params(v);
         let a = v.get(ParamId::Size) as f64;
-        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(v, key, p.bend);
+        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(p, key);
         let nu = self.data.poisson;
         let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - nu * nu));
         let rho_h = m.density * h;
