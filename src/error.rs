@@ -126,13 +126,8 @@ pub enum Error {
         non_finite: u64,
     },
     /// A tuning file (Scala `.scl` or `.kbm`) could not be read or parsed.
-    #[error("tuning file {file}: {message}")]
-    Tuning {
-        /// The file (or the name given for the text).
-        file: String,
-        /// What is wrong with it.
-        message: String,
-    },
+    #[error(transparent)]
+    Tuning(#[from] noether_core::engine::ScalaError),
     /// Stress cases failed (`noether stress`; the cases are listed before).
     #[error("{count} stress case(s) failed (listed above)")]
     StressFailures {

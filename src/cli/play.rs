@@ -4,14 +4,13 @@
 
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use noether::engine::KeyTuning;
+use noether::engine::{load_scala, KeyTuning};
 use noether::render::midi::load_midi;
 use noether::render::play::{
     notes_timeline, parse_note, play, root_key, NoteSpec, PlaySettings, Timeline,
 };
 use noether::render::preset_engine::find_preset;
 use noether::render::report::{write_spectrogram, write_waveform_png};
-use noether::render::tuning::load_scala;
 use noether::render::wav::{write_wav, WavFormat};
 use noether::Error;
 use std::path::PathBuf;

@@ -13,5 +13,4 @@ pub mod resample;
 pub mod scene;
 pub mod shape_plot;
 pub use noether_core::models::source;
-pub mod tuning;
 pub mod wav;

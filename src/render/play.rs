@@ -221,7 +221,7 @@ pub struct PlaySettings {
     /// Seconds rendered after the timeline's last event.
     pub tail: f64,
     /// The pitch of every key (12-TET: [`KeyTuning::equal`]; a Scala file:
-    /// [`crate::render::tuning::load_scala`]).
+    /// [`crate::engine::load_scala`]).
     pub tuning: KeyTuning,
 }
 

@@ -13,9 +13,8 @@
 //! instead of 440 is 2.3e-3). With the bend left out of the pitch map the bend cases fail.
 
 use noether::analysis::fundamental::fundamental_near;
-use noether::engine::{Engine, KeyTuning, ParamId, Preset, SharedParams};
+use noether::engine::{scala_tuning, Engine, KeyTuning, ParamId, Preset, SharedParams};
 use noether::render::preset_accuracy::with_overrides;
-use noether::render::tuning::scala_tuning;
 use std::sync::Arc;
 
 const RATE: f64 = 48_000.0;

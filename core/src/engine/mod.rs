@@ -119,6 +119,7 @@ mod pool;
 pub mod preset;
 mod readout;
 pub mod resample;
+pub mod scala;
 mod telemetry;
 pub mod tuning;
 pub mod voice;
@@ -137,6 +138,7 @@ pub use params::{
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;
 pub use preset::{legacy_bridge_fraction, Preset, PresetValue, LEGACY_BRIDGE_POSITION};
+pub use scala::{load_scala, scala_tuning, ScalaError, ScalaTuning};
 pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
 };

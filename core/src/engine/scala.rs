@@ -17,10 +17,28 @@
 //! - Without a `.kbm`: the scale's degree 0 on key 60 at 12-TET middle C (261.626 Hz), one
 //!   degree per key (the Scala program's default).
 
-use crate::engine::{KeyTuning, KEY_COUNT};
-use crate::Error;
+use super::tuning::{pitch_to_hz, KeyTuning, KEY_COUNT};
+use std::fmt;
 use std::path::Path;
 use tune::scala::Scl;
+
+/// A tuning file (Scala `.scl` or `.kbm`) that could not be read or used: the file (or the
+/// name given for the text) and what is wrong with it. Built on the thread that reads it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScalaError {
+    /// The file, or the name given for the text.
+    pub file: String,
+    /// What is wrong with it.
+    pub message: String,
+}
+
+impl fmt::Display for ScalaError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "tuning file {}: {}", self.file, self.message)
+    }
+}
+
+impl std::error::Error for ScalaError {}
 
 /// A key table and what it came from.
 #[derive(Debug, Clone)]
@@ -32,9 +50,9 @@ pub struct ScalaTuning {
 }
 
 /// Reads `scl` (and `kbm`, if given) from disk; see [`scala_tuning`]. Errors name the file.
-pub fn load_scala(scl: &Path, kbm: Option<&Path>) -> Result<ScalaTuning, Error> {
+pub fn load_scala(scl: &Path, kbm: Option<&Path>) -> Result<ScalaTuning, ScalaError> {
     let read = |p: &Path| {
-        std::fs::read_to_string(p).map_err(|e| Error::Tuning {
+        std::fs::read_to_string(p).map_err(|e| ScalaError {
             file: p.display().to_string(),
             message: e.to_string(),
         })
@@ -62,13 +80,13 @@ pub fn scala_tuning(
     kbm_text: Option<&str>,
     scl_name: &str,
     kbm_name: &str,
-) -> Result<ScalaTuning, Error> {
-    let scl = Scl::import(scl_text.as_bytes()).map_err(|e| Error::Tuning {
+) -> Result<ScalaTuning, ScalaError> {
+    let scl = Scl::import(scl_text.as_bytes()).map_err(|e| ScalaError {
         file: scl_name.to_string(),
         message: format!("not a Scala scale: {e:?}"),
     })?;
     let kbm = match kbm_text {
-        Some(text) => Kbm::parse(text).map_err(|message| Error::Tuning {
+        Some(text) => Kbm::parse(text).map_err(|message| ScalaError {
             file: kbm_name.to_string(),
             message,
         })?,
@@ -82,7 +100,7 @@ pub fn scala_tuning(
     let ratio = |d: i32| scl.relative_pitch_of(d).as_float();
     let reference = kbm
         .degree_of(kbm.reference, octave)
-        .ok_or_else(|| Error::Tuning {
+        .ok_or_else(|| ScalaError {
             file: kbm_name.to_string(),
             message: format!(
                 "the reference key {} is unmapped (allowed: a mapped key)",
@@ -92,7 +110,10 @@ pub fn scala_tuning(
     let base = kbm.reference_hz / ratio(reference);
     let hz: [Option<f64>; KEY_COUNT] =
         std::array::from_fn(|k| kbm.degree_of(k as i32, octave).map(|d| base * ratio(d)));
-    let table = KeyTuning::from_mapped_frequencies(&hz)?;
+    let table = KeyTuning::from_mapped_frequencies(&hz).map_err(|e| ScalaError {
+        file: scl_name.to_string(),
+        message: e.to_string(),
+    })?;
     Ok(ScalaTuning {
         table,
         description: scl.description().to_string(),
@@ -120,7 +141,7 @@ impl Kbm {
             last: 127,
             middle: 60,
             reference: 60,
-            reference_hz: crate::engine::tuning::pitch_to_hz(60.0),
+            reference_hz: pitch_to_hz(60.0),
             octave_degree: 0,
             map: Vec::new(),
         }
