@@ -25,10 +25,10 @@ use noether_testkit::soak::{self, SoakConfig};
 use std::sync::Arc;
 
 /// Blocks of the main sequence. With seed `0x5eed_0007`, 10 000 blocks (plus about 3 000
-/// played while rebuilds were pending) are 66 s of audio and took 16 s of CPU (the whole test
-/// process, engine and voice pool, test profile, on the loaded two-core development
-/// machine); they made 61 rebuilds, 22 host rate changes and 18 872 note-ons, far above what
-/// the test requires (3, 2 and 1000).
+/// played while rebuilds were pending) are 66 s of audio and took 14 to 16 s of CPU (the
+/// whole test process, engine and voice pool, test profile, on the loaded two-core
+/// development machine); they made 61 rebuilds, 22 host rate changes and about 19 000
+/// note-ons in each of two runs, far above what the test requires (3, 2 and 1000).
 const BLOCKS: u64 = 10_000;
 
 #[test]
