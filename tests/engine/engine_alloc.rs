@@ -1,10 +1,15 @@
 //! `assert_no_alloc` around `Engine::process`: notes, every parameter automated, model swaps
 //! (waiting for the worker's bank), quality changes, host rates 22.05 to 192 kHz and block
 //! sizes 1 to 8192. The global allocator of this test binary aborts on any allocation inside
-//! `assert_no_alloc` (debug assertions are on in the test profile). Output finite throughout.
+//! `assert_no_alloc` (debug assertions are on in the test profile). Output finite and within
+//! full scale throughout; with the limiter on (automated with the others, the gain over its
+//! whole range -60..+60 dB) within the limiter's ceiling and with no sample clipped by the
+//! output stage's guard.
 
 use assert_no_alloc::assert_no_alloc;
-use noether::engine::{Engine, Event, EventKind, ParamId, ParamKind, Preset, SharedParams, PARAMS};
+use noether::engine::{
+    Engine, Event, EventKind, ParamId, ParamKind, Preset, SharedParams, CEILING, PARAMS,
+};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -19,14 +24,34 @@ impl Rng {
     }
 }
 
-fn block(e: &mut Engine, events: &[Event], l: &mut [f32], r: &mut [f32]) {
+/// Slack on the ceiling: the limiter's gain is `CEILING / peak` in `f32`, so a limited sample
+/// can pass the ceiling by a few ulps (6e-8 each); 1e-6 is 16 ulps.
+const CEILING_ROUNDING: f32 = 1.000_001;
+
+/// One block; `limiter`: whether the `limiter` parameter is on for it. Returns the peak.
+fn block(e: &mut Engine, limiter: bool, events: &[Event], l: &mut [f32], r: &mut [f32]) -> f32 {
+    let guarded = e.guarded_samples();
     assert_no_alloc(|| e.process_events(events, l, r));
     let worst = l.iter().chain(r.iter()).fold(0.0f32, |m, x| m.max(x.abs()));
-    // Bounded: finite and below 1e4 full scale. Gain is automated up to 0 dB only, but the
-    // table's extremes (1000 N on a 5 cm plate, 5 mm plucks) legitimately reach pickup
-    // velocities of a few hundred m/s (137 seen); a diverging scheme grows past any bound
-    // to inf/NaN within a block.
-    assert!(worst.is_finite() && worst < 1e4, "output {worst}");
+    // No setting takes the output past full scale (the guard bounds it to 1 in any case), and
+    // with the limiter on the limiter does it: its ceiling holds and the guard never acts.
+    assert!(worst.is_finite() && worst <= 1.0, "output {worst}");
+    if limiter {
+        assert!(
+            worst <= CEILING * CEILING_ROUNDING,
+            "output {worst}, limiter on"
+        );
+        assert_eq!(
+            e.guarded_samples(),
+            guarded,
+            "samples clipped by the guard with the limiter on (peak {worst})"
+        );
+    }
+    worst
+}
+
+fn limiter(params: &SharedParams) -> bool {
+    params.snapshot().index_of(ParamId::Limiter) == 1
 }
 
 #[test]
@@ -39,6 +64,7 @@ fn process_never_allocates() {
     let (mut e, h) = Engine::new(params.clone());
     let mut rng = Rng(0x9e3779b97f4a7c15);
     let (mut l, mut r) = (vec![0.0f32; 8192], vec![0.0f32; 8192]);
+    let mut peak_limited = 0.0f32;
     let rates = [22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0];
     let blocks = [1usize, 7, 64, 333, 8192];
     for (k, &rate) in rates.iter().enumerate() {
@@ -71,11 +97,6 @@ fn process_never_allocates() {
                 ];
                 for p in PARAMS.iter().filter(|p| !p.rebuild) {
                     let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;
-                    let x = if p.id == ParamId::Gain {
-                        p.min as f64 + rng.next() * 60.0
-                    } else {
-                        x
-                    };
                     let x = match p.kind {
                         ParamKind::Float { .. } => x as f32,
                         _ => x.round() as f32,
@@ -83,7 +104,11 @@ fn process_never_allocates() {
                     // Keep the plate away from absurd sizes only through the table's ranges.
                     params.set(p.id, x.clamp(p.min, p.max)).unwrap();
                 }
-                block(&mut e, &events, &mut l[..bs], &mut r[..bs]);
+                let on = limiter(&params);
+                let peak = block(&mut e, on, &events, &mut l[..bs], &mut r[..bs]);
+                if on {
+                    peak_limited = peak_limited.max(peak);
+                }
             }
         }
         // A model swap and a quality change, waited for with process running.
@@ -119,19 +144,33 @@ fn process_never_allocates() {
                 h.is_rebuilding(),
                 h.banks_built()
             );
-            block(&mut e, &events, &mut l[..256], &mut r[..256]);
+            block(
+                &mut e,
+                limiter(&params),
+                &events,
+                &mut l[..256],
+                &mut r[..256],
+            );
             std::thread::sleep(Duration::from_millis(1));
         }
         for _ in 0..20 {
-            block(&mut e, &events, &mut l[..512], &mut r[..512]);
+            block(
+                &mut e,
+                limiter(&params),
+                &events,
+                &mut l[..512],
+                &mut r[..512],
+            );
         }
         println!(
-            "rate {rate}: model {:?}, sim {:?} Hz, cap hits {}, refused {}, diverged {}",
+            "rate {rate}: model {:?}, sim {:?} Hz, cap hits {}, refused {}, diverged {}, \
+             guard {} samples (limiter off), peak with the limiter on {peak_limited:.4}",
             e.model(),
             e.sim_rate(),
             e.newton_cap_hits(),
             e.refused_notes(),
-            e.diverged_voices()
+            e.diverged_voices(),
+            e.guarded_samples()
         );
     }
 }

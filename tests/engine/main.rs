@@ -11,6 +11,7 @@ mod cascade;
 mod engine;
 mod engine_alloc;
 mod engine_threads;
+mod extreme_levels;
 mod pitch_from_sound;
 mod preset_levels;
 mod string_presets;

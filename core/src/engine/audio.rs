@@ -80,6 +80,8 @@ pub struct Engine {
     pub(super) gain: f32,
     /// Low cut, limiter and full-scale guard at the host rate (rebuilt by `activate`).
     pub(super) output: OutputStage,
+    /// Samples the guards of output stages already replaced (earlier activations) changed.
+    pub(super) guarded_past: u64,
     pub(super) retune_wait: usize,
     pub(super) fade_len: usize,
     pub(super) scratch: [Vec<f32>; 2],
@@ -132,6 +134,7 @@ impl Engine {
             threads_used: 1,
             late: 0,
             worker_jobs_past: 0,
+            guarded_past: 0,
             host_rate: 48_000.0,
             max_block: 0,
             bend: 0.0,
@@ -215,6 +218,7 @@ impl Engine {
         self.host_rate = host_rate;
         self.max_block = max_block;
         self.fade_len = ((FADE * host_rate) as usize).max(1);
+        self.guarded_past += self.output.guarded();
         self.output = OutputStage::new(host_rate);
         self.values = values;
         self.applied = (values, self.bend);

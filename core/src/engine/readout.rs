@@ -137,6 +137,17 @@ impl Engine {
         self.refused
     }
 
+    /// Output samples the output stage's last guard had to change since the engine was created:
+    /// samples above full scale bounded to ±1 and non-finite samples set to 0 (see
+    /// [`super::output`]). Written on the audio thread (a counter, no allocation); read on
+    /// the thread that owns the engine. With the `limiter` parameter on it stays 0: the
+    /// limiter keeps every sample under its ceiling (-0.3 dBFS) before the guard, so a count
+    /// in a block played with the limiter on means the limiter failed. With the limiter off
+    /// it counts the hard-clipped samples.
+    pub fn guarded_samples(&self) -> u64 {
+        self.guarded_past + self.output.guarded()
+    }
+
     pub(super) fn account(&mut self, left: &[f32], right: &[f32], start: Instant) {
         for (c, x) in [left, right].into_iter().enumerate() {
             for &s in x {
@@ -170,6 +181,7 @@ impl Engine {
             rebuilding: self.status.rebuilding.load(Ordering::Acquire),
             newton_cap_hits: self.newton_cap_hits,
             diverged: self.diverged,
+            guarded: self.guarded_samples(),
             ..Telemetry::default()
         };
         for c in 0..2 {

@@ -96,6 +96,10 @@ pub struct Telemetry {
     /// Voices whose state became non-finite or whose output passed
     /// [`VOICE_CEILING`](super::VOICE_CEILING) since activation (they are silenced and freed).
     pub diverged: u64,
+    /// Output samples the output stage's guard bounded to full scale or zeroed as non-finite
+    /// since the engine was created (`Engine::guarded_samples`; 0 while the limiter is on).
+    /// Written on the audio thread.
+    pub guarded: u64,
     /// Simulation rate of the bank in use (Hz).
     pub sim_rate: f32,
     /// Sounding voices.
@@ -122,6 +126,7 @@ impl Default for Telemetry {
             bank: 0,
             newton_cap_hits: 0,
             diverged: 0,
+            guarded: 0,
             sim_rate: 0.0,
             active_voices: 0,
         }

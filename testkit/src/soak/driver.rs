@@ -7,7 +7,7 @@
 use super::draw::{Draw, Storm};
 use super::quality::{self, needs_rebuild, signature, Signature};
 use super::summary::{SoakFailure, SoakSummary};
-use super::{SoakConfig, HOST_RATES, LEVEL_BOUND, MAX_BLOCKS};
+use super::{SoakConfig, CEILING, CEILING_ROUNDING, HOST_RATES, MAX_BLOCKS};
 use noether_core::engine::{Engine, Event, ParamId, SharedParams, PARAMS};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -41,6 +41,8 @@ where
 {
     let start = Instant::now();
     let mut d = Draw::new(cfg.seed);
+    // The choices of the blocks played while a rebuild is pending (see the module doc).
+    let mut dw = Draw::new(cfg.seed ^ 0x9e37_79b9_7f4a_7c15);
     let params = Arc::new(SharedParams::new());
     // Start cheap: the default gong at 16 modes, 4 in-plane modes, 16 kHz, 2 voices.
     for (id, x) in [
@@ -63,14 +65,25 @@ where
     e.activate(rate, max_block)
         .map_err(|err| fail(&s, format!("activation at {rate} Hz: {err}")))?;
     s.note_rate(rate);
-    let mut gain_hi = 1.0f64;
     let mut bank = e.bank_id();
     let mut phase = Phase::Idle { blocks: 20 };
     let mut buildable = true;
     loop {
-        let late = start.elapsed() >= cfg.duration;
+        if start.elapsed() > cfg.wall_limit {
+            return Err(fail(
+                &s,
+                format!(
+                    "wall-time limit {:.0} s passed after {} of {} blocks (a hung or far too \
+                     slow engine)",
+                    cfg.wall_limit.as_secs_f64(),
+                    s.blocks - s.wait_blocks,
+                    cfg.blocks
+                ),
+            ));
+        }
+        let done = s.blocks - s.wait_blocks >= cfg.blocks;
         phase = match phase {
-            Phase::Idle { blocks: 0 } if late => break,
+            Phase::Idle { blocks: 0 } if done => break,
             Phase::Idle { blocks: 0 } => {
                 // Re-activation rebuilds from the current parameters, or keeps the last
                 // good model when they do not build.
@@ -170,29 +183,48 @@ where
             idle @ Phase::Idle { .. } => idle,
         };
         // Automation of every parameter that applies without a rebuild.
+        let waiting = matches!(phase, Phase::Waiting { .. });
+        let dd = if waiting { &mut dw } else { &mut d };
         let v = params.snapshot();
         for p in PARAMS.iter().filter(|p| !needs_rebuild(p, &v)) {
-            params.set(p.id, d.value(p)).map_err(|err| fail(&s, err))?;
+            params.set(p.id, dd.value(p)).map_err(|err| fail(&s, err))?;
             s.param_writes += 1;
         }
-        gain_hi = gain_hi.max(10f64.powf(params.get(ParamId::Gain) as f64 / 20.0));
-        let n = d.block(max_block);
-        storm.fill(&mut d, n, rate, &mut events);
+        let limiter = params.snapshot().index_of(ParamId::Limiter) == 1;
+        let n = dd.block(max_block);
+        storm.fill(dd, n, rate, &mut events);
         let (bl, br) = (&mut l[..n], &mut r[..n]);
+        let guarded = e.guarded_samples();
         let t = Instant::now();
         process(&mut e, &events, bl, br);
         let spent = t.elapsed();
+        let guarded = e.guarded_samples() - guarded;
         let finite = bl.iter().chain(br.iter()).all(|x| x.is_finite());
         let peak = bl
             .iter()
             .chain(br.iter())
-            .fold(0.0f64, |m, &x| m.max(x.abs() as f64));
-        s.block(n, rate, spent, peak / gain_hi, &e);
-        if !finite || peak > LEVEL_BOUND * gain_hi {
-            let what = if finite {
-                format!("output {peak:e} above the bound {LEVEL_BOUND:e} × gain {gain_hi}")
-            } else {
+            .fold(0.0f32, |m, &x| m.max(x.abs()));
+        s.block(n, rate, spent, &e);
+        s.level(peak, limiter, guarded);
+        if waiting {
+            s.wait_blocks += 1;
+            // Real-time pace while the worker builds (a host's audio thread does not race).
+            if let Some(rest) = Duration::from_secs_f64(n as f64 / rate).checked_sub(spent) {
+                std::thread::sleep(rest);
+            }
+        }
+        let bound = if limiter {
+            CEILING * CEILING_ROUNDING
+        } else {
+            1.0
+        };
+        if !finite || peak > bound || (limiter && guarded > 0) {
+            let what = if !finite {
                 "non-finite output".to_string()
+            } else if peak > bound {
+                format!("output {peak:e} above the bound {bound:e} (limiter on: {limiter})")
+            } else {
+                format!("{guarded} samples clipped by the guard with the limiter on")
             };
             return Err(fail(
                 &s,

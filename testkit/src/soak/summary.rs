@@ -58,8 +58,11 @@ pub struct SoakSummary {
     pub seed: u64,
     /// Wall time of the run (s).
     pub wall: f64,
-    /// Blocks processed.
+    /// Blocks processed (main sequence and rebuild waits).
     pub blocks: u64,
+    /// Blocks processed while a rebuild was pending (choices from the second sequence,
+    /// paced at real time; their number depends on the worker's speed).
+    pub wait_blocks: u64,
     /// Host samples processed (per channel).
     pub samples: u64,
     /// Host audio processed (s): the sum of `n / host_rate` over blocks.
@@ -96,8 +99,15 @@ pub struct SoakSummary {
     pub worst_long: WorstBlock,
     /// Total wall time in `process` over the audio processed (mean load).
     pub mean_load: f64,
-    /// Largest `|output| / gain bound` seen (normalised units, before the output gain).
-    pub peak_level: f64,
+    /// Blocks played with the `limiter` parameter on.
+    pub limited_blocks: u64,
+    /// Largest `|output|` in blocks with the limiter on (full scale 1; bound: the ceiling).
+    pub peak_limited: f32,
+    /// Largest `|output|` in blocks with the limiter off (bound: 1, the guard's clip).
+    pub peak_unlimited: f32,
+    /// Samples the output stage's guard changed in blocks with the limiter off (clipped to
+    /// full scale); with it on any such sample fails the soak.
+    pub guarded_unlimited: u64,
     /// The engine's counters at the end: contact Newton solves that hit the cap, voices
     /// silenced as non-finite, notes refused as unstable.
     pub newton_cap_hits: u64,
@@ -140,13 +150,24 @@ impl SoakSummary {
         }
     }
 
-    pub(super) fn block(&mut self, n: usize, rate: f64, spent: Duration, level: f64, e: &Engine) {
+    /// Records a block's output level: its peak, whether the limiter was on, and the samples
+    /// the guard changed.
+    pub(super) fn level(&mut self, peak: f32, limiter: bool, guarded: u64) {
+        if limiter {
+            self.limited_blocks += 1;
+            self.peak_limited = self.peak_limited.max(peak);
+        } else {
+            self.peak_unlimited = self.peak_unlimited.max(peak);
+            self.guarded_unlimited += guarded;
+        }
+    }
+
+    pub(super) fn block(&mut self, n: usize, rate: f64, spent: Duration, e: &Engine) {
         self.blocks += 1;
         self.samples += n as u64;
         self.audio += n as f64 / rate;
         self.busy += spent.as_secs_f64();
         self.block_range = (self.block_range.0.min(n), self.block_range.1.max(n));
-        self.peak_level = self.peak_level.max(level);
         if e.threads_used() > 1 {
             self.threaded_blocks += 1;
         }
@@ -193,8 +214,14 @@ impl fmt::Display for SoakSummary {
         writeln!(f, "soak seed {}: {:.1} s wall", self.seed, self.wall)?;
         writeln!(
             f,
-            "  blocks {} ({} samples, {:.1} s of audio), lengths {}..{}",
-            self.blocks, self.samples, self.audio, self.block_range.0, self.block_range.1
+            "  blocks {} ({} while rebuilds were pending; {} samples, {:.1} s of audio), \
+             lengths {}..{}",
+            self.blocks,
+            self.wait_blocks,
+            self.samples,
+            self.audio,
+            self.block_range.0,
+            self.block_range.1
         )?;
         writeln!(
             f,
@@ -244,9 +271,13 @@ impl fmt::Display for SoakSummary {
         )?;
         writeln!(
             f,
-            "  largest output level {:.3e} (normalised, before gain; bound {:e})",
-            self.peak_level,
-            super::LEVEL_BOUND
+            "  output: limiter on in {} blocks, peak {:.4} (ceiling {:.4}); off, peak {:.4} \
+             with {} samples clipped by the guard",
+            self.limited_blocks,
+            self.peak_limited,
+            super::CEILING,
+            self.peak_unlimited,
+            self.guarded_unlimited
         )?;
         writeln!(
             f,
