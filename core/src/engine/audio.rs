@@ -5,14 +5,13 @@ use super::events::{Event, EventKind, GuiCommand};
 use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus, KEPT};
 use super::mix::{run_bank, Sharing, Tally};
 use super::output::OutputStage;
-use super::params::{ParamId, ParamValues, SharedParams, PARAMS};
+use super::params::{ParamId, ParamValues, SharedParams};
 use super::pool::Pool;
 use super::telemetry::Telemetry;
 use super::tuning::KeyTuning;
-use super::voice::Physics;
 use crate::error::{check_closed, ParamError};
 use crossbeam_channel::{bounded, Receiver, Sender};
-use ringbuf::traits::{Consumer, Split};
+use ringbuf::traits::Split;
 use ringbuf::{HeapCons, HeapProd, HeapRb};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -24,7 +23,7 @@ pub const MIN_HOST_RATE: f64 = 8_000.0;
 pub const MAX_HOST_RATE: f64 = 768_000.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation
 /// costs at most one O(N) retune per voice every 2 ms.
-const RETUNE_INTERVAL: f64 = 0.002;
+pub(super) const RETUNE_INTERVAL: f64 = 0.002;
 /// Cross-fade of a replaced bank (s).
 const FADE: f64 = 0.02;
 /// Events kept while the bank is held by a late voice job (applied when it returns).
@@ -317,185 +316,6 @@ impl Engine {
             *x = 0.0;
         }
         self.account(&left[..n], &right[..n], start);
-    }
-
-    /// Starts a note now (velocity in (0, 1]; 0 is a note-off).
-    pub fn note_on(&mut self, key: u8, velocity: f32) {
-        self.apply(EventKind::NoteOn { key, velocity });
-    }
-
-    /// Releases a note now.
-    pub fn note_off(&mut self, key: u8) {
-        self.apply(EventKind::NoteOff { key });
-    }
-
-    /// Pitch bend now, normalised to [-1, 1].
-    pub fn pitch_bend(&mut self, value: f32) {
-        self.apply(EventKind::PitchBend(value));
-    }
-
-    /// Mod wheel now, normalised to [0, 1].
-    pub fn mod_wheel(&mut self, value: f32) {
-        self.apply(EventKind::ModWheel(value));
-    }
-
-    /// Sustain pedal now.
-    pub fn sustain(&mut self, down: bool) {
-        self.apply(EventKind::Sustain(down));
-    }
-
-    fn physics(&self) -> Physics {
-        Physics {
-            values: self.values,
-            bend: self.bend,
-            tuning: self.key_tuning,
-        }
-    }
-
-    /// Applies one event at the current position (or keeps it while a late job holds the
-    /// bank).
-    fn apply(&mut self, kind: EventKind) {
-        if self.held.is_some() {
-            if let Some(slot) = self.deferred.get_mut(self.deferred_len) {
-                *slot = kind;
-                self.deferred_len += 1;
-            } else {
-                self.deferred_lost += 1;
-            }
-            return;
-        }
-        match kind {
-            // A key the tuning leaves unmapped (a Scala `.kbm` 'x') plays nothing.
-            EventKind::NoteOn { key, velocity } if velocity > 0.0 && velocity.is_finite() => {
-                if self.key_tuning.is_mapped(key.min(127)) {
-                    self.start_note(key.min(127), velocity.min(1.0))
-                }
-            }
-            EventKind::NoteOn { key, .. } | EventKind::NoteOff { key } => self.release(key),
-            EventKind::PitchBend(x) if x.is_finite() => {
-                self.bend = x.clamp(-1.0, 1.0) * self.values.get(ParamId::PitchBendRange);
-            }
-            EventKind::ModWheel(x) if x.is_finite() => self.wheel = x.clamp(0.0, 1.0),
-            EventKind::Sustain(down) => {
-                self.sustain = down;
-                if !down {
-                    let p = self.physics();
-                    if let Some(b) = self.bank.as_mut() {
-                        for v in b.voices.iter_mut().filter(|v| v.active && v.sustained) {
-                            v.sustained = false;
-                            if !v.retune(&p) {
-                                v.reset();
-                                self.refused += 1;
-                            }
-                        }
-                    }
-                }
-            }
-            EventKind::AllNotesOff => {
-                for key in 0..=127 {
-                    self.release(key);
-                }
-            }
-            EventKind::AllSoundOff => {
-                if let Some(b) = self.bank.as_mut() {
-                    for v in &mut b.voices {
-                        v.reset();
-                    }
-                }
-            }
-            EventKind::PitchBend(_) | EventKind::ModWheel(_) => {}
-        }
-    }
-
-    fn start_note(&mut self, key: u8, vel: f32) {
-        let p = self.physics();
-        let (frame, wheel) = (self.frame, self.wheel);
-        let Some(b) = self.bank.as_mut() else { return };
-        let slot = b
-            .voices
-            .iter()
-            .position(|v| v.active && v.key == key)
-            .or_else(|| b.voices.iter().position(|v| !v.active))
-            .or_else(|| {
-                // Steal the quietest released voice, else the oldest.
-                let quiet = b
-                    .voices
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, v)| v.released())
-                    .min_by(|x, y| x.1.energy.total_cmp(&y.1.energy))
-                    .map(|(i, _)| i);
-                quiet.or_else(|| {
-                    b.voices
-                        .iter()
-                        .enumerate()
-                        .min_by_key(|(_, v)| v.started)
-                        .map(|(i, _)| i)
-                })
-            });
-        if let Some(i) = slot {
-            if !b.voices[i].start(&p, key, vel, wheel, frame) {
-                self.refused += 1;
-            }
-        }
-    }
-
-    fn release(&mut self, key: u8) {
-        let p = self.physics();
-        let sustain = self.sustain;
-        let Some(b) = self.bank.as_mut() else { return };
-        for v in b
-            .voices
-            .iter_mut()
-            .filter(|v| v.active && v.held && v.key == key)
-        {
-            v.held = false;
-            if sustain {
-                v.sustained = true;
-            } else if !v.retune(&p) {
-                v.reset();
-                self.refused += 1;
-            }
-        }
-    }
-
-    fn poll_commands(&mut self) {
-        // While a late job holds the bank, commands wait in their queue.
-        while self.held.is_none() {
-            let Some(c) = self.commands.try_pop() else {
-                break;
-            };
-            match c {
-                GuiCommand::Event(k) => self.apply(k),
-                GuiCommand::Reset => self.reset(),
-                GuiCommand::Watch(w) => self.watch = w,
-            }
-        }
-    }
-
-    fn retune_voices(&mut self, len: usize) {
-        self.retune_wait = self.retune_wait.saturating_sub(len);
-        let changed = self.applied.1 != self.bend
-            || self.tuning_applied != self.tuning_seen
-            || PARAMS
-                .iter()
-                .filter(|p| !p.rebuild)
-                .any(|p| self.applied.0.get(p.id).to_bits() != self.values.get(p.id).to_bits());
-        if !changed || self.retune_wait > 0 || self.bank.is_none() {
-            return;
-        }
-        self.applied = (self.values, self.bend);
-        self.tuning_applied = self.tuning_seen;
-        self.retune_wait = (RETUNE_INTERVAL * self.host_rate) as usize;
-        let p = self.physics();
-        if let Some(b) = self.bank.as_mut() {
-            for v in b.voices.iter_mut().filter(|v| v.active) {
-                if !v.retune(&p) {
-                    v.reset();
-                    self.refused += 1;
-                }
-            }
-        }
     }
 
     /// Renders one chunk (at most [`CHUNK`] samples).

@@ -112,6 +112,7 @@ mod handle;
 mod handover;
 mod kinds;
 mod mix;
+mod notes;
 pub mod output;
 pub mod params;
 mod plate_bank;
