@@ -4,11 +4,13 @@
 //! `assert_no_alloc` (debug assertions are on in the test profile). Output finite and within
 //! full scale throughout; with the limiter on (automated with the others, the gain over its
 //! whole range -60..+60 dB) within the limiter's ceiling and with no sample clipped by the
-//! output stage's guard.
+//! output stage's guard. Key tables (12-TET, and 19 steps per octave with every fifth key
+//! unmapped) are published between blocks, so the audio thread takes and retunes with them.
 
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::{
-    Engine, Event, EventKind, ParamId, ParamKind, Preset, SharedParams, CEILING, PARAMS,
+    Engine, Event, EventKind, KeyTuning, ParamId, ParamKind, Preset, SharedParams, CEILING,
+    KEY_COUNT, PARAMS,
 };
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -65,6 +67,13 @@ fn process_never_allocates() {
     let mut rng = Rng(0x9e3779b97f4a7c15);
     let (mut l, mut r) = (vec![0.0f32; 8192], vec![0.0f32; 8192]);
     let mut peak_limited = 0.0f32;
+    let tables = [
+        KeyTuning::equal(),
+        KeyTuning::from_mapped_frequencies(&std::array::from_fn::<_, KEY_COUNT, _>(|k| {
+            (k % 5 != 0).then(|| 261.625_565 * ((k as f64 - 60.0) / 19.0).exp2())
+        }))
+        .unwrap(),
+    ];
     let rates = [22_050.0, 44_100.0, 48_000.0, 96_000.0, 192_000.0];
     let blocks = [1usize, 7, 64, 333, 8192];
     for (k, &rate) in rates.iter().enumerate() {
@@ -103,6 +112,9 @@ fn process_never_allocates() {
                     };
                     // Keep the plate away from absurd sizes only through the table's ranges.
                     params.set(p.id, x.clamp(p.min, p.max)).unwrap();
+                }
+                if b % 3 == 0 {
+                    params.tuning().set(&tables[(b / 3) % 2]);
                 }
                 let on = limiter(&params);
                 let peak = block(&mut e, on, &events, &mut l[..bs], &mut r[..bs]);

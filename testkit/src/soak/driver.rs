@@ -8,7 +8,7 @@ use super::draw::{Draw, Storm};
 use super::quality::{self, needs_rebuild, signature, Signature};
 use super::summary::{SoakFailure, SoakSummary};
 use super::{SoakConfig, CEILING, CEILING_ROUNDING, HOST_RATES, MAX_BLOCKS};
-use noether_core::engine::{Engine, Event, ParamId, SharedParams, PARAMS};
+use noether_core::engine::{Engine, Event, KeyTuning, ParamId, SharedParams, KEY_COUNT, PARAMS};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -189,6 +189,17 @@ where
         for p in PARAMS.iter().filter(|p| !needs_rebuild(p, &v)) {
             params.set(p.id, dd.value(p)).map_err(|err| fail(&s, err))?;
             s.param_writes += 1;
+        }
+        // Now and then a new key table (each key within a semitone of 12-TET, about one in
+        // eight unmapped), published from this host thread like a GUI loading a Scala file.
+        if dd.chance(0.01) {
+            let hz: [Option<f64>; KEY_COUNT] = std::array::from_fn(|k| {
+                let p = k as f64 + dd.between(-1.0, 1.0);
+                (!dd.chance(0.125)).then(|| 440.0 * ((p - 69.0) / 12.0).exp2())
+            });
+            let t = KeyTuning::from_mapped_frequencies(&hz).map_err(|err| fail(&s, err))?;
+            params.tuning().set(&t);
+            s.tunings += 1;
         }
         let limiter = params.snapshot().index_of(ParamId::Limiter) == 1;
         let n = dd.block(max_block);

@@ -71,6 +71,8 @@ pub struct SoakSummary {
     pub block_range: (usize, usize),
     /// Parameter writes (automation and bursts).
     pub param_writes: u64,
+    /// Key tables published (random microtunings with unmapped keys).
+    pub tunings: u64,
     /// Events of the note storm.
     pub storm: StormCounts,
     /// Rebuild requests (bursts' final steps).
@@ -235,6 +237,7 @@ impl fmt::Display for SoakSummary {
             st.panics
         )?;
         writeln!(f, "  parameter writes {}", self.param_writes)?;
+        writeln!(f, "  key tables published {}", self.tunings)?;
         writeln!(
             f,
             "  rebuilds: {} requested, {} arrived, {} refused by the worker; {} handovers, {} \
