@@ -5,12 +5,13 @@
 //! full scale throughout; with the limiter on (automated with the others, the gain over its
 //! whole range -60..+60 dB) within the limiter's ceiling and with no sample clipped by the
 //! output stage's guard. Key tables (12-TET, and 19 steps per octave with every fifth key
-//! unmapped) are published between blocks, so the audio thread takes and retunes with them.
+//! unmapped) are published between blocks, so the audio thread takes and retunes with them;
+//! per-note tuning and volume expressions arrive with the notes.
 
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::{
-    Engine, Event, EventKind, KeyTuning, ParamId, ParamKind, Preset, SharedParams, CEILING,
-    KEY_COUNT, PARAMS,
+    Engine, Event, EventKind, KeyTuning, NoteExpression, ParamId, ParamKind, Preset, SharedParams,
+    CEILING, KEY_COUNT, PARAMS,
 };
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -103,6 +104,20 @@ fn process_never_allocates() {
                         },
                     ),
                     Event::new((bs - 1) as u32, EventKind::Sustain(b % 7 == 0)),
+                    Event::new(
+                        (bs / 3) as u32,
+                        EventKind::NoteExpression {
+                            key,
+                            expression: NoteExpression::Tuning(4.0 * rng.next() as f32 - 2.0),
+                        },
+                    ),
+                    Event::new(
+                        (bs / 3) as u32,
+                        EventKind::NoteExpression {
+                            key,
+                            expression: NoteExpression::Volume(4.0 * rng.next() as f32),
+                        },
+                    ),
                 ];
                 for p in PARAMS.iter().filter(|p| !p.rebuild) {
                     let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;

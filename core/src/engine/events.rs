@@ -27,6 +27,30 @@ pub enum EventKind {
     AllNotesOff,
     /// Every voice stops at once (MIDI all-sound-off, panic).
     AllSoundOff,
+    /// A per-note expression for the voice sounding `key` (CLAP note expressions, MPE
+    /// per-channel controllers mapped to their note by the host layer). Ignored when no voice
+    /// sounds the key; non-finite values are ignored; a new note starts neutral.
+    NoteExpression {
+        /// MIDI key of the note.
+        key: u8,
+        /// What changes.
+        expression: NoteExpression,
+    },
+}
+
+/// Largest per-note tuning offset (semitones), either way: MPE's default bend range is 48.
+pub const MAX_NOTE_TUNING: f32 = 96.0;
+/// Largest per-note volume (linear gain; CLAP's volume expression spans 0 to 4).
+pub const MAX_NOTE_VOLUME: f32 = 4.0;
+
+/// A per-note expression ([`EventKind::NoteExpression`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NoteExpression {
+    /// Pitch offset of this note in semitones, added to the key's pitch and the channel bend
+    /// (clamped to ±[`MAX_NOTE_TUNING`], the host protocol's range).
+    Tuning(f32),
+    /// Output gain of this note (linear, 0 to [`MAX_NOTE_VOLUME`]; 1 is neutral).
+    Volume(f32),
 }
 
 /// An event at a sample offset inside the block given to

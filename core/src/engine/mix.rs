@@ -131,9 +131,9 @@ pub(crate) fn run_bank(
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 let v = unsafe { &mut *base.add(i) };
                 if ok {
-                    // The note's key-tracked level, outside the voice's ceiling check (which
-                    // bounds the physics, not the mix).
-                    let g = v.level as f32;
+                    // The note's key-tracked level and volume expression, outside the
+                    // voice's ceiling check (which bounds the physics, not the mix).
+                    let g = (v.level * f64::from(v.note_volume)) as f32;
                     for k in 0..m {
                         sl[k] += g * vl[k];
                         sr[k] += g * vr[k];

@@ -127,7 +127,7 @@ pub mod voice;
 
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
-pub use events::{Event, EventKind, GuiCommand};
+pub use events::{Event, EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::{Material, ModelKind};
 pub use mix::SILENCE_RATIO;

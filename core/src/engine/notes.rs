@@ -3,7 +3,7 @@
 //! voices read ([`Physics`]) and the retune of sounding voices when playing values change.
 
 use super::audio::{Engine, RETUNE_INTERVAL};
-use super::events::{EventKind, GuiCommand};
+use super::events::{EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 use super::params::{ParamId, PARAMS};
 use super::voice::Physics;
 use ringbuf::traits::Consumer;
@@ -86,6 +86,7 @@ impl Engine {
                     self.release(key);
                 }
             }
+            EventKind::NoteExpression { key, expression } => self.note_expression(key, expression),
             EventKind::AllSoundOff => {
                 if let Some(b) = self.bank.as_mut() {
                     for v in &mut b.voices {
@@ -163,7 +164,46 @@ impl Engine {
         }
     }
 
+    /// A per-note expression for the voice sounding `key` (a re-struck key has one voice).
+    /// A tuning marks the voice for a retune at the next chunk (at most one O(modes) retune
+    /// per voice and chunk however many expressions arrive); a volume applies in the mix.
+    fn note_expression(&mut self, key: u8, expression: NoteExpression) {
+        let Some(b) = self.bank.as_mut() else {
+            return;
+        };
+        let Some(v) = b.voices.iter_mut().find(|v| v.active && v.key == key) else {
+            return;
+        };
+        match expression {
+            NoteExpression::Tuning(s) if s.is_finite() => {
+                v.note_tuning = s.clamp(-MAX_NOTE_TUNING, MAX_NOTE_TUNING);
+                v.dirty = true;
+            }
+            NoteExpression::Volume(g) if g.is_finite() => {
+                v.note_volume = g.clamp(0.0, MAX_NOTE_VOLUME);
+            }
+            _ => {}
+        }
+    }
+
+    /// Retunes the sounding voices when playing values, the bend or the key table changed
+    /// (at most every [`RETUNE_INTERVAL`]), and every voice whose own tuning changed.
     pub(super) fn retune_voices(&mut self, len: usize) {
+        let dirty = |v: &&mut crate::engine::voice::Voice| v.active && v.dirty;
+        if self
+            .bank
+            .as_ref()
+            .is_some_and(|b| b.voices.iter().any(|v| v.active && v.dirty))
+        {
+            let p = self.physics();
+            let b = self.bank.as_mut().expect("checked above");
+            for v in b.voices.iter_mut().filter(dirty) {
+                if !v.retune(&p) {
+                    v.reset();
+                    self.refused += 1;
+                }
+            }
+        }
         self.retune_wait = self.retune_wait.saturating_sub(len);
         let changed = self.applied.1 != self.bend
             || self.tuning_applied != self.tuning_seen

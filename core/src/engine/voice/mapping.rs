@@ -27,11 +27,12 @@ pub(crate) struct Physics {
     pub tuning: KeyTuning,
 }
 
-/// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend)/12) · a4/440`, `p` the
-/// key table (`p(k) = k` in 12-TET; see the module doc of [`super`]).
-pub(crate) fn pitch_ratio(p: &Physics, key: u8) -> f64 {
+/// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend + note)/12) · a4/440`,
+/// `p` the key table (`p(k) = k` in 12-TET; see the module doc of [`super`]), `bend` the
+/// channel's, `note` the note's own tuning expression (semitones).
+pub(crate) fn pitch_ratio(p: &Physics, key: u8, note: f32) -> f64 {
     let v = &p.values;
-    let semis = p.tuning.pitch(key) - v.get(ParamId::RootKey) as f64 + p.bend as f64;
+    let semis = p.tuning.pitch(key) - v.get(ParamId::RootKey) as f64 + p.bend as f64 + note as f64;
     (v.get(ParamId::TuningA4) as f64 / 440.0) * (semis / 12.0).exp2()
 }
 

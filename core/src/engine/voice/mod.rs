@@ -68,6 +68,10 @@ pub(crate) struct Voice {
     pub dirty: bool,
     /// The note's output level from the `key_level` tracking (linear gain, set by `retune`).
     pub level: f64,
+    /// The note's own pitch offset (semitones, per-note tuning expression; 0 at note-on).
+    pub note_tuning: f32,
+    /// The note's own gain (per-note volume expression; 1 at note-on).
+    pub note_volume: f32,
 }
 
 impl Voice {
@@ -84,6 +88,8 @@ impl Voice {
             energy: 0.0,
             dirty: false,
             level: 1.0,
+            note_tuning: 0.0,
+            note_volume: 1.0,
         }
     }
 
@@ -98,8 +104,8 @@ impl Voice {
         self.level = key_level_gain(&p.values, self.key);
         let released = self.released();
         match &mut self.model {
-            VoiceModel::Plate(pv) => pv.retune(p, self.key, released),
-            VoiceModel::String(sv) => sv.retune(p, self.key, released),
+            VoiceModel::Plate(pv) => pv.retune(p, self.key, self.note_tuning, released),
+            VoiceModel::String(sv) => sv.retune(p, self.key, self.note_tuning, released),
         }
     }
 
@@ -109,6 +115,9 @@ impl Voice {
     /// if the model refused the note's coefficients.
     pub fn start(&mut self, p: &Physics, key: u8, vel: f32, wheel: f32, now: u64) -> bool {
         let same = self.active && self.key == key;
+        // Every note starts with neutral expressions.
+        self.note_tuning = 0.0;
+        self.note_volume = 1.0;
         if !same {
             self.reset();
             if let VoiceModel::Plate(pv) = &mut self.model {

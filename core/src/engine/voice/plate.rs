@@ -163,11 +163,11 @@ impl PlateVoice {
     }
 
     /// `(ω scale, a, h, ρh, E)` for `key`: `ω_s = λ_s² · scale`.
-    fn note_scalars(&self, p: &Physics, key: u8) -> (f64, f64, f64, f64, f64) {
+    fn note_scalars(&self, p: &Physics, key: u8, note: f32) -> (f64, f64, f64, f64, f64) {
         let v = &p.values;
         let m = Material::from_params(v);
         let a = v.get(ParamId::Size) as f64;
-        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(p, key);
+        let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(p, key, note);
         let nu = self.data.poisson;
         let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - nu * nu));
         let rho_h = m.density * h;
@@ -179,7 +179,8 @@ impl PlateVoice {
     /// integrates stably), that model at rest, and the strike frame at the
     /// current strike angle. Audio thread, O(N_Φ), no allocation.
     pub fn begin(&mut self, p: &Physics, key: u8) {
-        let (scale, ..) = self.note_scalars(p, key);
+        // A note starts with a neutral tuning expression.
+        let (scale, ..) = self.note_scalars(p, key, 0.0);
         let limit = TAU * self.data.band_hz / scale;
         let n_band = self.data.lambda2.partition_point(|&l2| l2 <= limit);
         let tiers = &self.data.tiers;
@@ -243,11 +244,12 @@ impl PlateVoice {
     }
 
     /// Computes and applies the coefficients for `key` to the tier in use (module doc of
-    /// [`super`]). `released`: apply the release floor. Returns `false` if the model refused
+    /// [`super`]), with the note's own tuning `note` (semitones). `released`: apply the release
+    /// floor. Returns `false` if the model refused
     /// them (then unchanged).
-    pub fn retune(&mut self, p: &Physics, key: u8, released: bool) -> bool {
+    pub fn retune(&mut self, p: &Physics, key: u8, note: f32, released: bool) -> bool {
         let v = &p.values;
-        let (scale, a, h, rho_h, e) = self.note_scalars(p, key);
+        let (scale, a, h, rho_h, e) = self.note_scalars(p, key, note);
         let (ds, da, db, dc) = (
             v.get(ParamId::DampingScale) as f64,
             v.get(ParamId::DampingA) as f64,

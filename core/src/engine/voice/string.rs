@@ -26,9 +26,9 @@ impl StringVoice {
         }
     }
 
-    pub fn retune(&mut self, p: &Physics, key: u8, released: bool) -> bool {
+    pub fn retune(&mut self, p: &Physics, key: u8, note: f32, released: bool) -> bool {
         let v = &p.values;
-        let r = pitch_ratio(p, key);
+        let r = pitch_ratio(p, key, note);
         let t_root = v.get(ParamId::Tension) as f64;
         let l = self.model.params().length;
         let ei = v.get(ParamId::Inharmonicity) as f64 * t_root * l * l
