@@ -228,6 +228,37 @@ pub(crate) mod tests {
         assert_eq!(s.stored, bad);
     }
 
+    /// Scala's white-key mapping of 12-TET: the black keys are `x`, unmapped.
+    pub(crate) const WHITE_KEYS_KBM: &str = "! white.kbm\n12\n0\n127\n60\n69\n440.0\n12\n\
+                                             0\nx\n2\nx\n4\n5\nx\n7\nx\n9\nx\n11\n";
+
+    /// A mapping loaded without a scale maps 12-TET: the white keys keep their 12-TET pitch
+    /// (to 1e-9 semitone, the `log2` of the frequencies), the 53 black keys of 128 play
+    /// nothing, and the description names the mapping.
+    #[test]
+    fn a_mapping_alone_maps_12_tet() {
+        let shared = SharedParams::new();
+        let s = TuningState::apply(
+            StoredTuning {
+                scl: None,
+                kbm: Some(file("white.kbm", WHITE_KEYS_KBM)),
+            },
+            &shared,
+        );
+        assert!(s.error.is_none(), "{:?}", s.error);
+        let t = shared.tuning().get();
+        assert_eq!(t.mapped_keys(), 75);
+        for k in [0u8, 21, 60, 69, 72, 127] {
+            assert!(
+                (t.pitch(k) - f64::from(k)).abs() < 1e-9,
+                "key {k}: {}",
+                t.pitch(k)
+            );
+        }
+        assert!(!t.is_mapped(61) && !t.is_mapped(70));
+        assert!(s.description.contains("white.kbm"), "{}", s.description);
+    }
+
     /// Loading from the editor: a bad file changes nothing but the error; a good one applies;
     /// a mapping loads on top of the scale.
     #[test]
