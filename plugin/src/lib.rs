@@ -9,7 +9,8 @@
 //! - ships the factory presets ([`presets`]), keeps the user's presets ([`user_presets`]), the
 //!   current preset and the A/B compare slots ([`preset_state`], [`preset_ops`]), and the editor
 //!   ([`editor`]),
-//! - makes any saved state it is given load to a defined, reported state ([`state`]).
+//! - makes any saved state it is given load to a defined, reported state ([`state`]),
+//! - saves the Scala tuning with the state and publishes its key table ([`tuning`]).
 //!
 //! Threads: `process` runs on the host's audio thread (no allocation, lock or I/O: parameters
 //! are copied into atomics, events into a preallocated buffer); `activate` and the editor run
@@ -26,6 +27,7 @@ pub mod preset_ops;
 pub mod preset_state;
 pub mod presets;
 pub mod state;
+pub mod tuning;
 pub mod user_presets;
 
 use editor::EditorApp;
@@ -60,7 +62,7 @@ pub struct Noether {
 impl Default for Noether {
     fn default() -> Self {
         let params = Arc::new(NoetherParams::default());
-        let shared = Arc::new(SharedParams::new());
+        let shared = params.engine.clone();
         params.sync_to_engine(&shared);
         let (engine, handle) = Engine::new(shared.clone());
         let link = Arc::new(EngineLink::new(handle));

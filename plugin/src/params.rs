@@ -10,6 +10,7 @@
 
 use crate::format::{format_value, parse_value};
 use crate::preset_state::{CurrentPreset, Origin, PresetState};
+use crate::tuning::{StoredTuning, TuningState};
 use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
@@ -111,6 +112,13 @@ pub struct NoetherParams {
     /// The current preset, its reference values and the A/B slots (persisted; see
     /// [`PresetState`]). GUI and main thread, never the audio thread.
     pub preset: RwLock<PresetState>,
+    /// The engine's parameter atomics and key table: the audio thread copies the slots into
+    /// them every block; the main thread (state load) and the GUI thread (editor) publish the
+    /// key table through [`TuningState::apply`].
+    pub engine: Arc<SharedParams>,
+    /// The Scala tuning files (persisted) and what the engine plays (see [`crate::tuning`]).
+    /// Main and GUI thread, never the audio thread.
+    pub tuning: RwLock<TuningState>,
 }
 
 impl Default for NoetherParams {
@@ -122,10 +130,14 @@ impl Default for NoetherParams {
                 ParamKind::Int | ParamKind::Enum { .. } => Slot::Int(int_slot(info)),
             })
             .collect();
+        let engine = Arc::new(SharedParams::new());
+        let tuning = RwLock::new(TuningState::apply(StoredTuning::default(), &engine));
         Self {
             slots,
             editor_state: EguiEditorState::from_size(LogicalSize::new(1040.0, 720.0), 1.0),
             preset: RwLock::new(PresetState::default()),
+            engine,
+            tuning,
         }
     }
 }
@@ -170,6 +182,8 @@ impl NoetherParams {
 const PRESET_KEY: &str = "preset";
 /// Persisted field: the whole [`PresetState`] (JSON).
 const PRESET_STATE_KEY: &str = "preset_state";
+/// Persisted field: the [`StoredTuning`] (the `.scl` and `.kbm` texts and names, JSON).
+pub const TUNING_KEY: &str = "tuning";
 
 // SAFETY: the pointers in `param_map` point into `self.slots`, which is never resized after
 // construction, and the `Params` object lives in an `Arc` that outlives the wrapper's use.
@@ -190,6 +204,11 @@ unsafe impl Params for NoetherParams {
 
     fn serialize_fields(&self) -> BTreeMap<String, String> {
         let mut map = BTreeMap::new();
+        if let Ok(t) = self.tuning.read() {
+            if let Ok(s) = nice_plug::params::persist::serialize_field(&t.stored) {
+                map.insert(TUNING_KEY.to_string(), s);
+            }
+        }
         let Ok(state) = self.preset.read() else {
             return map;
         };
@@ -204,6 +223,7 @@ unsafe impl Params for NoetherParams {
     }
 
     fn deserialize_fields(&self, serialized: &BTreeMap<String, String>) {
+        self.load_tuning(serialized);
         let Ok(mut state) = self.preset.write() else {
             return;
         };
@@ -239,6 +259,41 @@ unsafe impl Params for NoetherParams {
                 Ok(_) => {}
                 Err(e) => nice_error!("ignoring a corrupt preset name in the plugin state: {e}"),
             }
+        }
+    }
+}
+
+impl NoetherParams {
+    /// The tuning part of a state load (main thread, from `deserialize_fields`): the stored
+    /// tuning parsed and published to [`Self::engine`] through [`TuningState::apply`]; a
+    /// state without the field (saved before the plugin had tunings) or with a corrupt one
+    /// plays 12-TET, the corrupt one reported.
+    fn load_tuning(&self, serialized: &BTreeMap<String, String>) {
+        let stored = match serialized.get(TUNING_KEY) {
+            None => StoredTuning::default(),
+            Some(s) => match nice_plug::params::persist::deserialize_field::<StoredTuning>(s) {
+                Ok(t) => t,
+                Err(e) => {
+                    let message = format!(
+                        "plugin state: the `{TUNING_KEY}` field is not a stored tuning ({e}): \
+                         playing 12-TET instead"
+                    );
+                    nice_error!("{message}");
+                    let mut state = TuningState::apply(StoredTuning::default(), &self.engine);
+                    state.error = Some(message);
+                    self.set_tuning(state);
+                    return;
+                }
+            },
+        };
+        self.set_tuning(TuningState::apply(stored, &self.engine));
+    }
+
+    /// Replaces the tuning state (main or GUI thread).
+    pub fn set_tuning(&self, state: TuningState) {
+        match self.tuning.write() {
+            Ok(mut t) => *t = state,
+            Err(e) => *e.into_inner() = state,
         }
     }
 }
@@ -335,6 +390,65 @@ mod tests {
                 info.key
             );
         }
+    }
+
+    /// The stored tuning round-trips through nice-plug's field serialisation: a new instance
+    /// given the saved fields stores the same files (a 19-EDO scale on the white keys) and
+    /// publishes the same table (bitwise, unmapped keys included);
+    /// a state without the field (saved before tunings) then loads as 12-TET.
+    #[test]
+    fn the_tuning_round_trips_through_the_state() {
+        let p = NoetherParams::default();
+        let stored = StoredTuning {
+            scl: Some(crate::tuning::TuningFile {
+                name: "19edo.scl".into(),
+                text: crate::tuning::tests::edo19(),
+            }),
+            kbm: Some(crate::tuning::TuningFile {
+                name: "white.kbm".into(),
+                text: crate::tuning::tests::WHITE_KEYS_KBM.into(),
+            }),
+        };
+        p.set_tuning(TuningState::apply(stored.clone(), &p.engine));
+        let fields = p.serialize_fields();
+        assert!(fields[TUNING_KEY].contains("19-EDO"), "{fields:?}");
+        let q = NoetherParams::default();
+        assert!(q.engine.tuning().get().is_equal());
+        q.deserialize_fields(&fields);
+        let t = q.tuning.read().unwrap();
+        assert_eq!(t.stored, stored);
+        assert!(t.error.is_none(), "{:?}", t.error);
+        assert_eq!(q.engine.tuning().get(), p.engine.tuning().get());
+        assert_eq!(q.engine.tuning().get().mapped_keys(), 75);
+        drop(t);
+        let mut old = fields.clone();
+        old.remove(TUNING_KEY);
+        q.deserialize_fields(&old);
+        assert!(q.engine.tuning().get().is_equal());
+        assert_eq!(q.tuning.read().unwrap().stored, StoredTuning::default());
+        assert_eq!(q.tuning.read().unwrap().description, "12-TET");
+    }
+
+    /// A `tuning` field that is not a stored tuning (corrupt JSON) loads as 12-TET with the
+    /// error kept for the editor, replacing the tuning the instance had.
+    #[test]
+    fn a_corrupt_tuning_field_loads_as_12_tet() {
+        let p = NoetherParams::default();
+        let stored = StoredTuning {
+            scl: Some(crate::tuning::TuningFile {
+                name: "19edo.scl".into(),
+                text: crate::tuning::tests::edo19(),
+            }),
+            kbm: None,
+        };
+        p.set_tuning(TuningState::apply(stored, &p.engine));
+        assert!(!p.engine.tuning().get().is_equal());
+        let mut fields = p.serialize_fields();
+        fields.insert(TUNING_KEY.into(), "{\"scl\": 7".into());
+        p.deserialize_fields(&fields);
+        assert!(p.engine.tuning().get().is_equal());
+        let e = p.tuning.read().unwrap().error.clone().expect("an error");
+        assert!(e.contains("`tuning`") && e.contains("12-TET"), "{e}");
     }
 
     /// Syncing writes every value into the engine's atomics, clamped and accepted.

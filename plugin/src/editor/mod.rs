@@ -1,6 +1,6 @@
 //! The egui editor (GUI thread only), laid out for players: a top bar with the preset bar
 //! (factory and user presets, A/B compare), CPU load and the model state (a clear "rebuilding
-//! model" banner while the worker builds a voice bank), four macro controls (hardness, brightness, decay, size), the parameter
+//! model" banner while the worker builds a voice bank), the tuning row ([`tuning_row`]), four macro controls (hardness, brightness, decay, size), the parameter
 //! sections on the left ([`grid`]), live views on the right (energy meters on one dB scale
 //! with a strip chart, the mode spectrum, the displacement of the watched voice) and an
 //! on-screen keyboard across the bottom, also played from the computer keyboard.
@@ -16,6 +16,7 @@ pub mod macros;
 pub mod meters;
 mod plots;
 mod preset_bar;
+pub mod tuning_row;
 
 use crate::format::plural;
 use crate::link::EngineLink;
@@ -32,6 +33,7 @@ use noether_core::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
 use preset_bar::PresetBar;
 use std::sync::Arc;
 use std::time::Duration;
+use tuning_row::TuningRow;
 
 /// The editor application; moved into nice-plug-egui when the editor is created.
 pub struct EditorApp {
@@ -55,6 +57,8 @@ pub struct EditorApp {
     history: EnergyHistory,
     /// Height of the live views' column in the last frame (points), which sizes the plots.
     views_h: f32,
+    /// The tuning row (path field, Scala loads).
+    tuning: TuningRow,
 }
 
 impl EditorApp {
@@ -75,6 +79,7 @@ impl EditorApp {
             keyboard: Keyboard::default(),
             history: EnergyHistory::default(),
             views_h: 400.0,
+            tuning: TuningRow::default(),
         }
     }
 
@@ -150,6 +155,7 @@ impl EditorApp {
                 self.link.all_sound_off();
             }
         });
+        self.tuning.show(ui, &self.params);
     }
 
     fn watch_selector(&mut self, ui: &mut egui::Ui) {
