@@ -13,6 +13,7 @@ mod coupling_block_kernels;
 mod modal_circular;
 mod modal_rect;
 mod plate_backbone;
+mod plate_mallet;
 mod plate_mirror;
 mod plate_render;
 mod plate_sav;
