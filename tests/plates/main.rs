@@ -14,6 +14,7 @@ mod modal_circular;
 mod modal_rect;
 mod plate_backbone;
 mod plate_mallet;
+mod plate_mallet_hertz;
 mod plate_mirror;
 mod plate_render;
 mod plate_sav;

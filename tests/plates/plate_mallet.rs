@@ -21,10 +21,10 @@ const CONSERVATIVE: [PlateScheme; 3] = [
 ];
 
 /// SplitMix64: deterministic uniform numbers in [-1, 1).
-struct Rng(u64);
+pub(crate) struct Rng(u64);
 
 impl Rng {
-    fn next(&mut self) -> f64 {
+    pub(crate) fn next(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -32,14 +32,19 @@ impl Rng {
         z ^= z >> 31;
         (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
     }
-    fn vec(&mut self, n: usize) -> Vec<f64> {
+    pub(crate) fn vec(&mut self, n: usize) -> Vec<f64> {
         (0..n).map(|_| self.next()).collect()
     }
 }
 
 /// A random plate: `N_Φ = 12` modes 40-2000 Hz, `N_Ψ = 5`, random symmetric tensor scaled by
 /// `kappa`, steel-like `ρh`, `Eh`; `damping` (1/s) on every mode; force weights ~1/m.
-fn plate(scheme: PlateScheme, kappa: f64, damping: f64, rho_h: f64) -> PlateModel<DenseCoupling> {
+pub(crate) fn plate(
+    scheme: PlateScheme,
+    kappa: f64,
+    damping: f64,
+    rho_h: f64,
+) -> PlateModel<DenseCoupling> {
     let (nf, np) = (12, 5);
     let mut rng = Rng(11);
     let omega: Vec<f64> = (0..nf)
@@ -65,7 +70,7 @@ fn plate(scheme: PlateScheme, kappa: f64, damping: f64, rho_h: f64) -> PlateMode
 /// A plate sounding at about the mallet's energy when struck: `q0 = a·dir` at rest, with `a`
 /// and the tensor scale `κ` chosen so the stored energy is ≈ 0.2 J (the 0.05 kg mallet at
 /// 3 m/s carries 0.225 J) of which the in-plane (nonlinear) part is ≈ a quarter.
-fn sounding(scheme: PlateScheme, damping: f64) -> PlateModel<DenseCoupling> {
+pub(crate) fn sounding(scheme: PlateScheme, damping: f64) -> PlateModel<DenseCoupling> {
     let dir = Rng(5).vec(12);
     let v0 = vec![0.0; 12];
     let mut probe = plate(scheme, 1.0, damping, 7.86);
