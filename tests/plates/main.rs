@@ -15,6 +15,7 @@ mod modal_rect;
 mod plate_backbone;
 mod plate_mallet;
 mod plate_mallet_hertz;
+mod plate_mallet_scene;
 mod plate_mirror;
 mod plate_render;
 mod plate_sav;
