@@ -17,6 +17,7 @@ use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
 use crate::error::{check_finite, ParamError};
+use free_response::free_response_backward;
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
 /// non-finite values can cause): the model outputs zeros until [`PlateModel::reset`] or
@@ -593,25 +594,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
     Ok(())
 }
 
-/// Exact free response at `t = -h` of `q̈ + c q̇ + ω² q = 0` with `q(0) = q0`, `q̇(0) = v0`:
-/// `q(t) = e^{-σt} [q0 C(t) + (v0 + σ q0) S(t)]`, `σ = c/2`, with `C = cos(ω_d t)`,
-/// `S = sin(ω_d t)/ω_d` (under-damped), `cosh`/`sinh` (over-damped) or `1`, `t` (critical).
-fn free_response_backward(omega: f64, c: f64, h: f64, q0: f64, v0: f64) -> f64 {
-    let sigma = 0.5 * c;
-    let disc = omega * omega - sigma * sigma;
-    let (cc, ss) = if disc > 0.0 {
-        let wd = disc.sqrt();
-        ((wd * h).cos(), (wd * h).sin() / wd)
-    } else if disc < 0.0 {
-        let lam = (-disc).sqrt();
-        ((lam * h).cosh(), (lam * h).sinh() / lam)
-    } else {
-        (1.0, h)
-    };
-    // C is even and S odd in t.
-    (sigma * h).exp() * (q0 * cc - (v0 + sigma * q0) * ss)
-}
-
+mod free_response;
 mod mallet_step;
 mod retune;
 pub use retune::Unstable;
