@@ -46,6 +46,67 @@ use crate::error::{check_closed, check_finite, check_non_negative, check_positiv
 /// Below this `|r| / x_hi` the Newton derivative uses the midpoint `Φ''/2`.
 const TAYLOR_SPAN: f64 = 1e-5;
 
+/// The power-law contact `Φ'(x) = K [x]_+^α` on a penetration (or compression) `x`, with its
+/// potential and the rounding-safe discrete gradient of the module docs. Shared by
+/// [`ImpactScheme`] and the plate's mallet ([`crate::models::plate::Mallet`]); plain `Copy`
+/// data, any thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzContact {
+    /// Contact stiffness `K` (force per displacement^α, N/m^α), `> 0`.
+    pub stiffness: f64,
+    /// Exponent α (dimensionless), in [1, 4].
+    pub alpha: f64,
+}
+
+impl HertzContact {
+    /// Potential `Φ(x) = K/(α+1) [x]_+^{α+1}` (energy units).
+    pub fn potential(&self, x: f64) -> f64 {
+        if x > 0.0 {
+            self.stiffness / (self.alpha + 1.0) * x.powf(self.alpha + 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// Force `Φ'(x) = K [x]_+^α` (force units).
+    pub fn force(&self, x: f64) -> f64 {
+        if x > 0.0 {
+            self.stiffness * x.powf(self.alpha)
+        } else {
+            0.0
+        }
+    }
+
+    /// Discrete-gradient force `Q = (Φ(xb) - Φ(xa)) / (xb - xa)` between `xa` (step n-1) and
+    /// `xb` (step n+1), and `∂Q/∂xb` (see the module docs for the forms used): `Q ≥ 0`,
+    /// non-decreasing and convex in `xb`, `Q(xa, xa) = Φ'(xa)`. No allocation.
+    pub fn secant(&self, xa: f64, xb: f64) -> (f64, f64) {
+        let (lo, hi) = if xa <= xb { (xa, xb) } else { (xb, xa) };
+        if hi <= 0.0 || hi.is_nan() {
+            return (0.0, 0.0);
+        }
+        let (k, a) = (self.stiffness, self.alpha);
+        let span = hi - lo;
+        if lo <= 0.0 {
+            let q = k / (a + 1.0) * hi.powf(a + 1.0) / span;
+            return (q, (self.force(xb) - q) / (xb - xa));
+        }
+        let s = span / hi;
+        let ratio = if s > 0.0 {
+            -((a + 1.0) * (-s).ln_1p()).exp_m1() / s
+        } else {
+            a + 1.0
+        };
+        let q = k / (a + 1.0) * hi.powf(a) * ratio;
+        let dq = if s < TAYLOR_SPAN {
+            0.5 * k * a * (0.5 * (lo + hi)).powf(a - 1.0)
+        } else {
+            (self.force(xb) - q) / (xb - xa)
+        };
+        (q, dq)
+    }
+}
+
 /// Impact oscillator stepper (conservative discrete-gradient contact, Newton solve per step).
 ///
 /// Built once, then owned and stepped by one thread; `step` does no allocation and at most
@@ -56,10 +117,8 @@ pub struct ImpactScheme {
     mass: f64,
     /// Linear spring stiffness `k`, force per displacement.
     stiffness: f64,
-    /// Contact stiffness `K`, force per displacement^α.
-    contact_stiffness: f64,
-    /// Contact exponent α in [1, 4].
-    alpha: f64,
+    /// The contact law `K [x]_+^α` (`K` force per displacement^α, α in [1, 4]).
+    law: HertzContact,
     /// Gap `d` from rest to the wall, displacement units.
     gap: f64,
     /// θ in [0, 1] of the linear part.
@@ -113,8 +172,10 @@ impl ImpactScheme {
         Ok(Self {
             mass,
             stiffness,
-            contact_stiffness,
-            alpha,
+            law: HertzContact {
+                stiffness: contact_stiffness,
+                alpha,
+            },
             gap,
             theta,
             h,
@@ -131,48 +192,17 @@ impl ImpactScheme {
 
     /// Contact potential `Φ` at penetration `x = u - gap`: `K/(α+1) [x]_+^{α+1}`, energy units.
     pub fn potential(&self, x: f64) -> f64 {
-        if x > 0.0 {
-            self.contact_stiffness / (self.alpha + 1.0) * x.powf(self.alpha + 1.0)
-        } else {
-            0.0
-        }
+        self.law.potential(x)
     }
 
     /// Contact force `Φ'(x) = K [x]_+^α` at penetration `x = u - gap`, force units.
     pub fn contact_force(&self, x: f64) -> f64 {
-        if x > 0.0 {
-            self.contact_stiffness * x.powf(self.alpha)
-        } else {
-            0.0
-        }
+        self.law.force(x)
     }
 
-    /// Discrete-gradient force `Q = (Φ(xb) - Φ(xa)) / (xb - xa)` between penetrations `xa`
-    /// (step n-1) and `xb` (step n+1), and `∂Q/∂xb` (see the module docs for the forms used).
+    /// Discrete-gradient force between penetrations `xa` (step n-1) and `xb` (step n+1).
     fn secant(&self, xa: f64, xb: f64) -> (f64, f64) {
-        let (lo, hi) = if xa <= xb { (xa, xb) } else { (xb, xa) };
-        if hi <= 0.0 || hi.is_nan() {
-            return (0.0, 0.0);
-        }
-        let (k, a) = (self.contact_stiffness, self.alpha);
-        let span = hi - lo;
-        if lo <= 0.0 {
-            let q = k / (a + 1.0) * hi.powf(a + 1.0) / span;
-            return (q, (self.contact_force(xb) - q) / (xb - xa));
-        }
-        let s = span / hi;
-        let ratio = if s > 0.0 {
-            -((a + 1.0) * (-s).ln_1p()).exp_m1() / s
-        } else {
-            a + 1.0
-        };
-        let q = k / (a + 1.0) * hi.powf(a) * ratio;
-        let dq = if s < TAYLOR_SPAN {
-            0.5 * k * a * (0.5 * (lo + hi)).powf(a - 1.0)
-        } else {
-            (self.contact_force(xb) - q) / (xb - xa)
-        };
-        (q, dq)
+        self.law.secant(xa, xb)
     }
 
     /// `(G(q), G'(q))` at the current state.

@@ -58,7 +58,9 @@ fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
         );
     }
     match p.excitation {
-        Excitation::Strike { at, .. } | Excitation::Impulse { at, .. } => (
+        Excitation::Strike { at, .. }
+        | Excitation::Impulse { at, .. }
+        | Excitation::Mallet { at, .. } => (
             Symmetry::StrikeMirror,
             format!(
                 "symmetry: strike-mirror: the only excitation is a point force at angle {} rad \

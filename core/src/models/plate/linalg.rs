@@ -136,6 +136,40 @@ impl SpdSolver {
         }
         Ok(())
     }
+
+    /// Solves the system factored by the last successful [`Self::solve`] (same `A`, `U`) for a
+    /// new right-hand side `r`: one more back-substitution, no refactorisation. Used for the
+    /// plate's response to a unit strike force. No allocation; `O(N_Φ N_Ψ)` or `O(N_Φ²)` work.
+    pub(crate) fn solve_factored(&mut self, inv_a: &[f64], r: &[f64], x: &mut [f64]) {
+        let (nf, np) = (self.n_phi, self.n_psi);
+        if np == 0 {
+            for ((xs, &ia), &rs) in x.iter_mut().zip(inv_a).zip(r) {
+                *xs = ia * rs;
+            }
+            return;
+        }
+        match self.route {
+            Route::Woodbury => {
+                self.z.fill(0.0);
+                for ((urow, &ia), &rs) in self.u.chunks_exact(np).zip(inv_a).zip(r) {
+                    let ys = ia * rs;
+                    for (zl, &ul) in self.z.iter_mut().zip(urow) {
+                        *zl += ul * ys;
+                    }
+                }
+                cholesky_solve_in_place(&self.mat, np, &mut self.z);
+                for (((xs, urow), &ia), &rs) in
+                    x.iter_mut().zip(self.u.chunks_exact(np)).zip(inv_a).zip(r)
+                {
+                    *xs = ia * (rs - dot(urow, &self.z));
+                }
+            }
+            Route::Direct => {
+                x[..nf].copy_from_slice(&r[..nf]);
+                cholesky_solve_in_place(&self.mat, nf, x);
+            }
+        }
+    }
 }
 
 /// In-place Cholesky `M = L Lᵀ` of the `n × n` row-major matrix `m` (lower triangle read and
@@ -242,16 +276,20 @@ mod tests {
             let r: Vec<f64> = (0..nf).map(|_| lcg(&mut seed)).collect();
             let mut xw = vec![0.0; nf];
             let mut xd = vec![0.0; nf];
-            SpdSolver::new(Route::Woodbury, nf, np)
-                .solve(&a, &inv_a, &g, &e, &r, &mut xw)
-                .unwrap();
-            SpdSolver::new(Route::Direct, nf, np)
-                .solve(&a, &inv_a, &g, &e, &r, &mut xd)
-                .unwrap();
+            let mut sw = SpdSolver::new(Route::Woodbury, nf, np);
+            sw.solve(&a, &inv_a, &g, &e, &r, &mut xw).unwrap();
+            let mut sd = SpdSolver::new(Route::Direct, nf, np);
+            sd.solve(&a, &inv_a, &g, &e, &r, &mut xd).unwrap();
             assert!(residual(nf, np, &a, &g, &e, &r, &xw) < 1e-11);
             assert!(residual(nf, np, &a, &g, &e, &r, &xd) < 1e-11);
             for (p, q) in xw.iter().zip(&xd) {
                 assert!((p - q).abs() < 1e-11, "{p} vs {q}");
+            }
+            // A second right-hand side through the stored factors solves the same system.
+            let r2: Vec<f64> = (0..nf).map(|_| lcg(&mut seed)).collect();
+            for solver in [&mut sw, &mut sd] {
+                solver.solve_factored(&inv_a, &r2, &mut xw);
+                assert!(residual(nf, np, &a, &g, &e, &r2, &xw) < 1e-11);
             }
         }
     }

@@ -92,6 +92,7 @@ pub mod coupling;
 pub mod energy;
 pub mod excitation;
 mod linalg;
+pub mod mallet;
 pub mod model;
 pub mod params;
 mod sav;
@@ -104,5 +105,6 @@ pub use energy::PlateEnergy;
 pub use excitation::{
     damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
 };
+pub use mallet::{Mallet, MalletEnergy};
 pub use model::{Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};

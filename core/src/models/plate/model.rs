@@ -17,6 +17,7 @@ use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
 use crate::error::{check_finite, ParamError};
+use free_response::free_response_backward;
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
 /// non-finite values can cause): the model outputs zeros until [`PlateModel::reset`] or
@@ -93,6 +94,7 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     b_next: Vec<f64>,
     g: Vec<f64>,
     r: Vec<f64>,
+    /// Scratch: `set_state`'s nonlinear force, and `step_with_mallet`'s unit-force response.
     f: Vec<f64>,
     w: Vec<f64>,
     /// Scratch of the coupling's `_with_scratch` kernels (`kernel_scratch_len` values,
@@ -291,6 +293,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         } else if self.linearly_implicit_step(fscale).is_err() {
             return Err(self.fail());
         }
+        self.finish_step(force)
+    }
+
+    /// The common end of a step once `q(n+1)` (and `Ĥ(q(n+1), q(n))` or `ψ(n+½)`) is in place
+    /// under the force `force` = `F(n)`: divergence check, power, pickups, shift, energy.
+    #[inline]
+    fn finish_step(&mut self, force: f64) -> Result<(), Diverged> {
         if !self.q_next.iter().all(|x| x.is_finite()) || !force.is_finite() {
             return Err(self.fail());
         }
@@ -383,14 +392,20 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         // Decayed modes go to exactly zero instead of through the subnormal range (see
         // `FLUSH_TO_ZERO_BELOW`); done before Ĥ(q⁺, q) so the energy stays consistent.
         crate::models::flush_tiny(&mut self.q_next);
-        // Ĥ(q⁺, q) = Gᵀ q⁺ (H symmetric): u(n+1), and the next step's Ĥ(q, q⁻).
+        self.update_b_next();
+        Ok(())
+    }
+
+    /// `b_next = Ĥ(q⁺, q) = Gᵀ q⁺` (H symmetric): `u(n+1)`, and the next step's `Ĥ(q, q⁻)`.
+    #[inline]
+    fn update_b_next(&mut self) {
+        let np = self.b_next.len();
         self.b_next.fill(0.0);
         for (grow, &x) in self.g.chunks_exact(np.max(1)).zip(&self.q_next) {
             for (bn, &gv) in self.b_next.iter_mut().zip(grow) {
                 *bn += gv * x;
             }
         }
-        Ok(())
     }
 
     /// Runs `force.len()` steps (or as many as `out` has room for), writing the pickups'
@@ -579,24 +594,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
     Ok(())
 }
 
-/// Exact free response at `t = -h` of `q̈ + c q̇ + ω² q = 0` with `q(0) = q0`, `q̇(0) = v0`:
-/// `q(t) = e^{-σt} [q0 C(t) + (v0 + σ q0) S(t)]`, `σ = c/2`, with `C = cos(ω_d t)`,
-/// `S = sin(ω_d t)/ω_d` (under-damped), `cosh`/`sinh` (over-damped) or `1`, `t` (critical).
-fn free_response_backward(omega: f64, c: f64, h: f64, q0: f64, v0: f64) -> f64 {
-    let sigma = 0.5 * c;
-    let disc = omega * omega - sigma * sigma;
-    let (cc, ss) = if disc > 0.0 {
-        let wd = disc.sqrt();
-        ((wd * h).cos(), (wd * h).sin() / wd)
-    } else if disc < 0.0 {
-        let lam = (-disc).sqrt();
-        ((lam * h).cosh(), (lam * h).sinh() / lam)
-    } else {
-        (1.0, h)
-    };
-    // C is even and S odd in t.
-    (sigma * h).exp() * (q0 * cc - (v0 + sigma * q0) * ss)
-}
-
+mod free_response;
+mod mallet_step;
 mod retune;
 pub use retune::Unstable;

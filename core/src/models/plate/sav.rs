@@ -159,4 +159,26 @@ impl SavStep {
         }
         self.psi += 0.5 * dpsi;
     }
+
+    /// The change of `q(n+1)` per unit force `F(n)` (1 N) of the step just taken, into `z`
+    /// (units of `q` per N), and `g·z`. The step is affine in the force (the rank-one system
+    /// does not depend on it), so `z = (h²/ρh)(A⁻¹Φ - A⁻¹g · β gᵀA⁻¹Φ / (1 + β gᵀA⁻¹g))` with
+    /// the `g` of that step; adding `F z` to `q(n+1)` and `F g·z / 2` to `ψ` gives exactly the
+    /// step under the force `F`. Audio thread: no allocation, `O(N_Φ)`.
+    pub(crate) fn unit_response(&self, k: &SavCoefficients<'_>, z: &mut [f64]) -> f64 {
+        let (mut g_phi, mut gag) = (0.0, 0.0);
+        for ((&gs, &ia), &phi) in self.g.iter().zip(k.inv_a).zip(k.force_weights) {
+            g_phi += gs * ia * phi;
+            gag += gs * gs * ia;
+        }
+        let beta = 0.25 * k.h2_over_rho_h;
+        let coef = beta * g_phi / (1.0 + beta * gag);
+        let mut gz = 0.0;
+        for (((zs, &gs), &ia), &phi) in z.iter_mut().zip(&self.g).zip(k.inv_a).zip(k.force_weights)
+        {
+            *zs = k.h2_over_rho_h * ia * (phi - coef * gs);
+            gz += gs * *zs;
+        }
+        gz
+    }
 }

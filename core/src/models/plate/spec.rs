@@ -189,6 +189,23 @@ pub enum Excitation {
         /// Impulse in N·s (0 to 1e3).
         impulse: f64,
     },
+    /// A physical mallet (a lumped mass with a power-law felt, [`super::Mallet`]) launched
+    /// against the plate at a point at t = 0; it may rebound and strike again by itself.
+    Mallet {
+        /// Where.
+        at: Position,
+        /// Mallet mass M in kg (1e-4 to 10).
+        mass: f64,
+        /// Felt stiffness K in N/m^α (1 to 1e13).
+        stiffness: f64,
+        /// Felt exponent α (1 to 4).
+        exponent: f64,
+        /// Launch speed in m/s (1e-3 to 50).
+        speed: f64,
+        /// Felt (Hunt-Crossley) loss λ in s/m (0 to 10, default 0: lossless felt).
+        #[serde(default)]
+        loss: f64,
+    },
     /// Initial modal state: transverse mode `mode` (1-based, in frequency order) starts with
     /// displacement `displacement` and velocity `velocity` (modal coordinates: with normalised
     /// modes, `w = Φ q`, so `q` is in m·m).
@@ -343,6 +360,21 @@ impl PlateSpec {
             Excitation::Impulse { at, impulse } => {
                 at.validate(self.shape, "plate.excitation.at")?;
                 check_closed("plate.excitation.impulse", impulse, 0.0, 1e3)?;
+            }
+            Excitation::Mallet {
+                at,
+                mass,
+                stiffness,
+                exponent,
+                speed,
+                loss,
+            } => {
+                at.validate(self.shape, "plate.excitation.at")?;
+                check_closed("plate.excitation.mass", mass, 1e-4, 10.0)?;
+                check_closed("plate.excitation.stiffness", stiffness, 1.0, 1e13)?;
+                check_closed("plate.excitation.exponent", exponent, 1.0, 4.0)?;
+                check_closed("plate.excitation.speed", speed, 1e-3, 50.0)?;
+                check_closed("plate.excitation.loss", loss, 0.0, 10.0)?;
             }
             Excitation::Initial {
                 mode,

@@ -10,16 +10,18 @@
 use super::basis::{BasisKey, ModalCache};
 use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
-use super::{LinearSolve, PlateModel, PlateParams};
+use super::{LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
 use crate::modal::CouplingTensor;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
 
 /// The force applied at the excitation point, sample by sample.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 enum ForceSignal {
     /// Raised-cosine pulse.
     Strike(RaisedCosine),
+    /// A mallet, launched at build time, its force solved with each step.
+    Mallet(Mallet),
     /// No force during the run (an impulse is applied as the initial velocity).
     None,
 }
@@ -124,6 +126,24 @@ impl PlateVoice {
                 ForceSignal::Strike(RaisedCosine::new(duration, peak_force)?),
             ),
             Excitation::Impulse { at, .. } => (at, ForceSignal::None),
+            Excitation::Mallet {
+                at,
+                mass,
+                stiffness,
+                exponent,
+                loss,
+                ..
+            } => (
+                at,
+                ForceSignal::Mallet(
+                    Mallet::new(mass, stiffness, exponent, loss, 1.0 / scene.sim_rate).map_err(
+                        |e| ParamError {
+                            field: format!("plate.excitation.{}", e.field),
+                            ..e
+                        },
+                    )?,
+                ),
+            ),
             // No force: the strike weights are unused (the centre is a valid placeholder).
             Excitation::Initial { .. } => (
                 Position {
@@ -168,12 +188,18 @@ impl PlateVoice {
                 v0[mode - 1] = velocity;
                 Some((q0, v0))
             }
-            Excitation::Strike { .. } => None,
+            Excitation::Strike { .. } | Excitation::Mallet { .. } => None,
         };
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(scoped)?;
         if let Some((q0, v0)) = initial_state {
             model.set_state(&q0, &v0)?;
+        }
+        let mut force = force;
+        if let (ForceSignal::Mallet(m), Excitation::Mallet { speed, .. }) =
+            (&mut force, scene.excitation)
+        {
+            model.launch_mallet(m, speed).map_err(scoped)?;
         }
         let two_pi = std::f64::consts::TAU;
         let info = PlateDetails {
@@ -207,9 +233,17 @@ impl PlateVoice {
     }
 
     fn force_at(&self, n: u64) -> f64 {
-        match self.force {
+        match &self.force {
             ForceSignal::Strike(s) => s.force(n as f64 / self.fs),
-            ForceSignal::None => 0.0,
+            ForceSignal::Mallet(_) | ForceSignal::None => 0.0,
+        }
+    }
+
+    /// The mallet, for a `kind = "mallet"` excitation.
+    pub fn mallet(&self) -> Option<&Mallet> {
+        match &self.force {
+            ForceSignal::Mallet(m) => Some(m),
+            _ => None,
         }
     }
 }
@@ -225,10 +259,15 @@ impl RenderSource for PlateVoice {
 
     fn process(&mut self, out: &mut [Vec<f64>], frames: usize) {
         for i in 0..frames {
-            let f = self.force_at(self.step);
             // A diverged model keeps reporting its (non-finite) outputs; the renderer counts
             // them and the report says so.
-            let _ = self.model.step(f);
+            let _ = match &mut self.force {
+                ForceSignal::Mallet(m) => self.model.step_with_mallet(m),
+                _ => {
+                    let f = self.force_at(self.step);
+                    self.model.step(f)
+                }
+            };
             self.step += 1;
             for (c, &y) in out.iter_mut().zip(self.model.outputs()) {
                 c[i] = y;
@@ -237,7 +276,19 @@ impl RenderSource for PlateVoice {
     }
 
     fn energy(&self) -> EnergyTerms {
-        self.model.energy().into()
+        let mut e: EnergyTerms = self.model.energy().into();
+        if let Some(m) = self.mallet() {
+            // The joint energy of plate, mallet and felt (`MalletEnergy::joint_balance`): the
+            // mallet's kinetic energy with the plate's, the felt's potential with the
+            // nonlinear one, the felt loss with the modal losses; the launch is the work put
+            // in, and the mallet's work on the plate is internal.
+            let me = m.energy();
+            e.kinetic += me.kinetic;
+            e.nonlinear += me.contact;
+            e.dissipated += me.dissipated;
+            e.work += me.launched - me.work_on_plate;
+        }
+        e
     }
 
     fn is_conservative(&self) -> bool {
@@ -257,7 +308,9 @@ impl RenderSource for PlateVoice {
 /// modes are given in the basis's own frame).
 fn excitation_angle(e: &Excitation) -> f64 {
     match e {
-        Excitation::Strike { at, .. } | Excitation::Impulse { at, .. } => at.angle.unwrap_or(0.0),
+        Excitation::Strike { at, .. }
+        | Excitation::Impulse { at, .. }
+        | Excitation::Mallet { at, .. } => at.angle.unwrap_or(0.0),
         Excitation::Initial { .. } => 0.0,
     }
 }

@@ -1,0 +1,99 @@
+//! The plate step under a [`Mallet`]'s contact force (equations and solve in
+//! [`crate::models::plate::mallet`]): the force-free step, the response `z` to a unit force,
+//! one scalar solve, and `q(n+1) += F z`.
+
+use super::{Diverged, PlateModel};
+use crate::error::ParamError;
+use crate::models::plate::coupling::ModalCoupling;
+use crate::models::plate::linalg::dot;
+use crate::models::plate::mallet::Mallet;
+use crate::models::plate::sav::SavCoefficients;
+
+impl<C: ModalCoupling + ?Sized> PlateModel<C> {
+    /// Launches `mallet` at `speed` (m/s, > 0) towards the plate at the force point (the
+    /// weights of [`Self::set_force_weights`]), from just short of the plate's current surface
+    /// there: a strike on a sounding plate meets the moving plate, nothing is reset. Errors:
+    /// `speed` not positive and finite, or a mallet built for another time step (field
+    /// `mallet.h`). No allocation; the thread that owns the plate.
+    pub fn launch_mallet(&self, mallet: &mut Mallet, speed: f64) -> Result<(), ParamError> {
+        if mallet.h() != self.h {
+            return Err(ParamError::new(
+                "mallet.h",
+                mallet.h(),
+                format!("the plate's time step h = {}", self.h),
+            ));
+        }
+        let w = dot(&self.force_weights, &self.q);
+        let w_prev = dot(&self.force_weights, &self.q_prev);
+        mallet.launch(speed, w, w_prev)
+    }
+
+    /// Advances one step `n → n + 1` with the force `F(n)` of `mallet`'s felt on the plate at
+    /// the force point, solved jointly with the mallet's motion (energy conserving, see
+    /// [`crate::models::plate::mallet`]); a mallet not yet launched exerts no force. Pickups,
+    /// energy and divergence as [`Self::step`] (the plate's [`super::PlateEnergy::work`]
+    /// counts the mallet's work). Audio thread: no allocation; the plate step plus `O(N_Φ)`
+    /// (`O(N_Φ N_Ψ)` or `O(N_Φ²)` for the conservative schemes' extra back-substitution).
+    pub fn step_with_mallet(&mut self, mallet: &mut Mallet) -> Result<(), Diverged> {
+        if !mallet.is_active() || self.diverged {
+            return self.step(0.0);
+        }
+        let h2_over_rho_h = self.h * self.h / self.rho_h;
+        // Force-free q*(n+1), then z = ∂q(n+1)/∂F into `f`.
+        let mut sav_gz = 0.0;
+        if let Some(sav) = self.sav.as_mut() {
+            let k = SavCoefficients {
+                inv_a: &self.inv_a,
+                b: &self.b,
+                force_weights: &self.force_weights,
+                u_coef: &self.u_coef,
+                h2_over_rho_h,
+            };
+            sav.step(
+                &*self.coupling,
+                &k,
+                &self.q,
+                &self.q_prev,
+                0.0,
+                &mut self.q_next,
+            );
+            sav_gz = sav.unit_response(&k, &mut self.f);
+        } else {
+            if self.linearly_implicit_step(0.0).is_err() {
+                return Err(self.fail());
+            }
+            match self.solver.as_mut() {
+                None => {
+                    for ((z, &ia), &phi) in
+                        self.f.iter_mut().zip(&self.inv_a).zip(&self.force_weights)
+                    {
+                        *z = h2_over_rho_h * ia * phi;
+                    }
+                }
+                Some(solver) => {
+                    for (r, &phi) in self.r.iter_mut().zip(&self.force_weights) {
+                        *r = h2_over_rho_h * phi;
+                    }
+                    solver.solve_factored(&self.inv_a, &self.r, &mut self.f);
+                }
+            }
+        }
+        let w_star = dot(&self.force_weights, &self.q_next);
+        let compliance = dot(&self.force_weights, &self.f);
+        let w_prev = dot(&self.force_weights, &self.q_prev);
+        let force = mallet.contact_step(w_star, compliance, w_prev);
+        if force != 0.0 {
+            for (q, &z) in self.q_next.iter_mut().zip(&self.f) {
+                *q += force * z;
+            }
+            match self.sav.as_mut() {
+                Some(sav) => sav.psi += 0.5 * force * sav_gz,
+                None => {
+                    crate::models::flush_tiny(&mut self.q_next);
+                    self.update_b_next();
+                }
+            }
+        }
+        self.finish_step(force)
+    }
+}
