@@ -11,5 +11,6 @@ mod string_bounce;
 mod string_model;
 mod string_partials;
 mod string_render;
+mod string_repluck;
 mod string_rows;
 mod string_sav;

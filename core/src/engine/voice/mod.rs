@@ -111,7 +111,8 @@ impl Voice {
 
     /// Starts note `key` at velocity `vel` (0..1] with mod wheel `wheel` (0..1). A voice
     /// already playing the same key is struck again without a reset (plates: a new force
-    /// pulse on the moving plate; strings: re-plucked). Returns `false` (voice left silent)
+    /// pulse on the moving plate; strings: the pluck's shape added to the motion). Returns
+    /// `false` (voice left silent)
     /// if the model refused the note's coefficients.
     pub fn start(&mut self, p: &Physics, key: u8, vel: f32, wheel: f32, now: u64) -> bool {
         let same = self.active && self.key == key;
@@ -153,9 +154,14 @@ impl Voice {
                     position: v.get(ParamId::PluckPosition) as f64 * l,
                     amplitude: v.get(ParamId::PluckAmplitude) as f64 * amount,
                 };
-                // `pluck` resets the string: count the contact statistics first.
-                sv.cap_hits_seen = 0;
-                sv.model.pluck(&pluck).is_ok()
+                if same {
+                    // A sounding string is plucked again on its motion (no reset, no click).
+                    sv.model.add_pluck(&pluck).is_ok()
+                } else {
+                    // `pluck` resets the string: count the contact statistics first.
+                    sv.cap_hits_seen = 0;
+                    sv.model.pluck(&pluck).is_ok()
+                }
             }
         };
         if !ok {

@@ -293,6 +293,37 @@ impl StiffString {
         Ok(())
     }
 
+    /// Adds the triangular pluck's displacement to the current motion: a re-pluck of a
+    /// sounding string, without the reset of [`Self::pluck`] (which silences the motion first:
+    /// an audible click). The shape (sampled, through the grid map as in `pluck`) is added to
+    /// both stored levels `u^n` and `u^{n+1}`, so the discrete velocity `δ_{t-}u` is unchanged
+    /// and a velocity pickup continues without a jump. The energy the new shape brings
+    /// (strain and, against an obstacle, contact) is counted as work, so the power balance
+    /// stays closed across it; the quadratised contact state is re-initialised from the new
+    /// displacement. O(N), no allocation: callable from the audio thread.
+    pub fn add_pluck(&mut self, pluck: &TrianglePluck) -> Result<(), ParamError> {
+        pluck.validate(&self.params)?;
+        let before = self.energy_terms().total();
+        let dx = self.params.dx();
+        let mut d = std::mem::take(&mut self.u_next);
+        for (i, x) in d.iter_mut().enumerate() {
+            *x = pluck.displacement(self.params.length, (i + 1) as f64 * dx);
+        }
+        self.map.analysis(&mut d);
+        for (q, dq) in self.q.iter_mut().zip(&d) {
+            *q += dq;
+        }
+        self.map.synthesis(&mut d);
+        for ((a, b), du) in self.u_prev.iter_mut().zip(self.u_now.iter_mut()).zip(&d) {
+            *a += du;
+            *b += du;
+        }
+        self.u_next = d;
+        self.init_quadratised();
+        self.work += self.energy_terms().total() - before;
+        Ok(())
+    }
+
     /// Starts a raised-cosine force at the next step (replacing any active one); the string
     /// keeps its current motion. O(N) (evaluates `φ_j(x_e)` into a preallocated buffer), no
     /// allocation: callable from the audio thread.
