@@ -2,7 +2,7 @@
 //! buffer with spare capacity, and [`MidiMap::translate`] stops appending when it is full).
 //!
 //! Mapping: note on/off (a note on with velocity 0 is a note off, as in MIDI 1.0), choke →
-//! note off; pitch bend → `[-1, 1]` (nice-plug's 0.5 is the centre); CC 1 (mod wheel) →
+//! note off; pitch bend → `[-1, 1]` ([`bend_of`]: MIDI 1.0's 14-bit value, 8192 the centre); CC 1 (mod wheel) →
 //! `[0, 1]`; CC 64 (sustain) → pedal down at values ≥ 64/127 (the MIDI 1.0 convention);
 //! CC 120 → all sound off, CC 123 → all notes off.
 //!
@@ -89,6 +89,23 @@ fn push(out: &mut Vec<Event>, event: Event) {
     }
 }
 
+/// A pitch bend in nice-plug's `[0, 1]` (the 14-bit MIDI value over 16383) to `[-1, 1]`:
+/// the 14-bit value `v` is recovered and mapped with MIDI 1.0's centre, 8192 → 0 exactly (so a
+/// bend at rest does not detune a note by 1/16383 of its range, 0.3 cent at MPE's 48
+/// semitones), 0 → -1, 16383 → +1 (`(v - 8192) / 8192` below the centre, `/ 8191` above);
+/// a non-finite value is the centre.
+pub fn bend_of(value: f32) -> f32 {
+    if !value.is_finite() {
+        return 0.0;
+    }
+    let v = (value.clamp(0.0, 1.0) * 16383.0).round() - 8192.0;
+    if v < 0.0 {
+        v / 8192.0
+    } else {
+        v / 8191.0
+    }
+}
+
 /// A CC value in nice-plug's `[0, 1]` back to MIDI's 0 to 127.
 fn cc7(value: f32) -> u8 {
     (value * 127.0).round().clamp(0.0, 127.0) as u8
@@ -158,7 +175,7 @@ impl MidiMap {
                 }
             }
             NoteEvent::MidiPitchBend { value, channel, .. } => {
-                let bend = (2.0 * value - 1.0).clamp(-1.0, 1.0);
+                let bend = bend_of(value);
                 let Some(c) = self.bend.get_mut(usize::from(channel)) else {
                     return;
                 };

@@ -28,12 +28,25 @@ fn cc(channel: u8, cc: u8, value: u8) -> NoteEvent<()> {
     }
 }
 
-fn bend(channel: u8, value: f32) -> NoteEvent<()> {
+/// A pitch bend of 14-bit value `raw` (8192 the centre) as nice-plug delivers it.
+fn bend(channel: u8, raw: u16) -> NoteEvent<()> {
     NoteEvent::MidiPitchBend {
         timing: 9,
         channel,
-        value,
+        value: f32::from(raw) / 16383.0,
     }
+}
+
+/// The centre, the ends and a quarter of the way down are exact (MIDI 1.0: 8192 is no bend);
+/// the VST3 proxy parameter's 0.5 is the centre too.
+#[test]
+fn bend_values() {
+    for (raw, want) in [(8192u16, 0.0), (0, -1.0), (16383, 1.0), (4096, -0.5)] {
+        assert_eq!(bend_of(f32::from(raw) / 16383.0), want, "{raw}");
+    }
+    assert_eq!(bend_of(0.5), 0.0);
+    assert_eq!(bend_of(-3.0), -1.0);
+    assert_eq!(bend_of(f32::NAN), 0.0);
 }
 
 fn tuning(at: u32, key: u8, semitones: f32) -> Event {
@@ -81,8 +94,8 @@ fn notes_bend_wheel_and_pedal() {
     );
     assert_eq!(zero, vec![Event::new(3, EventKind::NoteOff { key: 61 })]);
     assert_eq!(
-        one(&mut m, bend(0, 0.75)),
-        vec![Event::new(9, EventKind::PitchBend(0.5))]
+        one(&mut m, bend(0, 12288)),
+        vec![Event::new(9, EventKind::PitchBend(4096.0 / 8191.0))]
     );
     assert_eq!(
         one(&mut m, cc(0, 1, 32)),
@@ -183,15 +196,15 @@ fn clap_note_expressions() {
 fn mpe_member_bends_tune_their_notes() {
     let mut m = MidiMap::default();
     assert_eq!(
-        one(&mut m, bend(1, 0.75)),
-        vec![Event::new(9, EventKind::PitchBend(0.5))],
+        one(&mut m, bend(1, 4096)),
+        vec![Event::new(9, EventKind::PitchBend(-0.5))],
         "no MPE configuration: global"
     );
     rpn(&mut m, 0, 6, 15, None);
     assert!(m.mpe());
     // The initial bend comes first and applies right after the note-on.
     assert!(
-        one(&mut m, bend(1, 0.75)).is_empty(),
+        one(&mut m, bend(1, 16383)).is_empty(),
         "no note on channel 2 yet"
     );
     let on = one(&mut m, note_on(1, 60));
@@ -205,7 +218,7 @@ fn mpe_member_bends_tune_their_notes() {
                     velocity: 1.0
                 }
             ),
-            tuning(5, 60, 24.0)
+            tuning(5, 60, 48.0)
         ]
     );
     let on = one(&mut m, note_on(2, 64));
@@ -220,15 +233,15 @@ fn mpe_member_bends_tune_their_notes() {
         )],
         "no bend on channel 3: the note starts neutral"
     );
-    assert_eq!(one(&mut m, bend(2, 0.25)), vec![tuning(9, 64, -24.0)]);
+    assert_eq!(one(&mut m, bend(2, 4096)), vec![tuning(9, 64, -24.0)]);
     assert_eq!(
-        one(&mut m, bend(0, 0.25)),
+        one(&mut m, bend(0, 4096)),
         vec![Event::new(9, EventKind::PitchBend(-0.5))],
         "the master channel's bend is global"
     );
     // RPN 0 on channel 3 (12 semitones, 50 cents) sets the range of the whole zone.
     rpn(&mut m, 2, 0, 12, Some(50));
-    assert_eq!(one(&mut m, bend(1, 1.0)), vec![tuning(9, 60, 12.5)]);
+    assert_eq!(one(&mut m, bend(1, 16383)), vec![tuning(9, 60, 12.5)]);
     // Channel pressure and CC 74 (MPE pressure and timbre): parsed, not used yet.
     let pressure = NoteEvent::MidiChannelPressure {
         timing: 0,
@@ -249,13 +262,13 @@ fn mpe_member_bends_tune_their_notes() {
         one(&mut m, off),
         vec![Event::new(1, EventKind::NoteOff { key: 60 })]
     );
-    assert!(one(&mut m, bend(1, 0.5)).is_empty());
+    assert!(one(&mut m, bend(1, 8192)).is_empty());
     // A configuration with no members turns MPE off: member bends are global again.
     rpn(&mut m, 0, 6, 0, None);
     assert!(!m.mpe());
     assert_eq!(
-        one(&mut m, bend(2, 0.75)),
-        vec![Event::new(9, EventKind::PitchBend(0.5))]
+        one(&mut m, bend(2, 4096)),
+        vec![Event::new(9, EventKind::PitchBend(-0.5))]
     );
 }
 
@@ -270,11 +283,11 @@ fn upper_zone_and_full_buffer() {
     assert_eq!(m.upper.map(|z| (z.first, z.last)), Some((12, 14)));
     assert_eq!(m.lower.map(|z| (z.first, z.last)), Some((1, 10)));
     assert_eq!(
-        one(&mut m, bend(11, 0.75)),
-        vec![Event::new(9, EventKind::PitchBend(0.5))],
+        one(&mut m, bend(11, 4096)),
+        vec![Event::new(9, EventKind::PitchBend(-0.5))],
         "channel 12 is in no zone"
     );
-    assert!(one(&mut m, bend(13, 1.0)).is_empty());
+    assert!(one(&mut m, bend(13, 16383)).is_empty());
     let mut out = Vec::with_capacity(1);
     m.translate(&note_on(13, 70), &mut out);
     assert_eq!(out.len(), 1, "the tuning does not fit");
