@@ -57,6 +57,8 @@ pub struct Noether {
     engine: Engine,
     /// Engine events of the current block, preallocated to [`EVENT_CAPACITY`].
     events: Vec<Event>,
+    /// Which key sounds on which MIDI channel, MPE zones and bends (audio thread).
+    midi: midi::MidiMap,
 }
 
 impl Default for Noether {
@@ -75,6 +77,7 @@ impl Default for Noether {
             repaint: RepaintNotifier::new(),
             engine,
             events: Vec::with_capacity(EVENT_CAPACITY),
+            midi: midi::MidiMap::default(),
         }
     }
 }
@@ -158,6 +161,7 @@ impl Plugin for Noether {
 
     fn reset(&mut self) {
         self.engine.reset();
+        self.midi.reset();
     }
 
     fn process(
@@ -169,9 +173,7 @@ impl Plugin for Noether {
         self.params.sync_to_engine(&self.shared);
         self.events.clear();
         while let Some(event) = context.next_event() {
-            if self.events.len() < self.events.capacity() {
-                midi::translate(&event, &mut self.events);
-            }
+            self.midi.translate(&event, &mut self.events);
         }
         let [left, right] = buffer.as_slice() else {
             return ProcessStatus::Error("the plugin needs a stereo output");

@@ -5,7 +5,8 @@
 //! at the note-off and decaying after it; `compare`, which checks that two renders of the same
 //! notes at different rates and block sizes agree (level, spectrum below 9 kHz, strongest
 //! partial); and `conform`, the validators' checks (activation at unusual rates, block sizes,
-//! random and extreme parameters, state) on the CLAP build. CI runs them through `.ci/plugin`.
+//! random and extreme parameters, state) on the CLAP build; `expression`, CLAP note expressions
+//! and MPE bends measured from the sound. CI runs them through `.ci/plugin`.
 //!
 //! Everything runs on the main thread: the host calls `process` itself, block after block, which
 //! is what an offline bounce in a DAW does.
@@ -15,6 +16,7 @@ mod compare;
 mod conform;
 mod conform_params;
 mod conform_render;
+mod expression;
 mod host;
 mod hostile;
 mod state_load;
@@ -37,6 +39,8 @@ enum Command {
     Compare(compare::CompareOptions),
     /// `conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP,...]`.
     Conform(conform::ConformOptions),
+    /// `expression PLUGIN.clap STATE [--out DIR] [--break WHAT]`.
+    Expression(expression::ExpressionOptions),
 }
 
 fn usage() -> &'static str {
@@ -45,7 +49,8 @@ fn usage() -> &'static str {
      [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
      noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]\n  \
      noether-test-host compare A.wav B.wav [--seconds S] [--max-freq HZ] [--max-level-db X] [--max-lsd-db X] [--max-cents X]\n  \
-     noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]"
+     noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]\n  \
+     noether-test-host expression PLUGIN.clap STATE [--out DIR] [--break tuning|volume|mpe-config|member-bend]"
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
@@ -55,6 +60,7 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
         "check" => check::CheckOptions::parse(rest).map(Command::Check),
         "compare" => compare::CompareOptions::parse(rest).map(Command::Compare),
         "conform" => conform::ConformOptions::parse(rest).map(Command::Conform),
+        "expression" => expression::ExpressionOptions::parse(rest).map(Command::Expression),
         other => Err(format!("unknown command `{other}`\n{}", usage())),
     }
 }
@@ -84,6 +90,7 @@ fn main() -> ExitCode {
         Command::Check(opts) => check::check(&opts),
         Command::Compare(opts) => compare::compare(&opts),
         Command::Conform(opts) => conform::conform(&opts),
+        Command::Expression(opts) => expression::expression(&opts),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
