@@ -38,8 +38,12 @@ use noether_core::engine::{Engine, Event, SharedParams};
 use params::NoetherParams;
 use std::num::NonZeroU32;
 use std::sync::Arc;
+use std::time::Duration;
 
 /// Most note and MIDI events handled in one block (the host's input event capacity).
+/// Longest wait per chunk for the voice pool's jobs in an offline bounce (the engine's offline
+/// renders use the same bound): long enough for any job, bounded all the same.
+const OFFLINE_JOB_WAIT: Duration = Duration::from_secs(10);
 const EVENT_CAPACITY: usize = 1024;
 
 /// The plugin instance (one per host instance).
@@ -136,6 +140,12 @@ impl Plugin for Noether {
         // The host may have restored a state since the last block: build the first bank for it.
         self.params.sync_to_engine(&self.shared);
         let max_block = buffer_config.max_buffer_size.max(1) as usize;
+        // An offline bounce (the host's freewheeling render) waits for every voice job, so no
+        // voice's chunk is left out as late and a bounce repeats bit for bit; in real time the
+        // wait is the chunk's duration (the engine's default).
+        self.engine.set_job_wait(
+            (buffer_config.process_mode == ProcessMode::Offline).then_some(OFFLINE_JOB_WAIT),
+        );
         match self
             .engine
             .activate(f64::from(buffer_config.sample_rate), max_block)
