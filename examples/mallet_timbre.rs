@@ -95,6 +95,25 @@ fn strike(mass: f64, v: f64) -> (f64, f64, f64, u64) {
     (steps as f64 / fs, peak, centroid(&y, fs), impacts)
 }
 
+/// One strike's figures: mallet mass (kg), speed (m/s), contact (s), Hertz's contact (s),
+/// peak force (N), centroid (Hz).
+struct Row {
+    mass: f64,
+    speed: f64,
+    contact: f64,
+    hertz: f64,
+    force: f64,
+    centroid: f64,
+}
+
+/// `(speed, f(row))` of the rows with mallet mass `m`.
+fn series(rows: &[Row], m: f64, f: impl Fn(&Row) -> f64) -> (Vec<f64>, Vec<f64>) {
+    rows.iter()
+        .filter(|r| r.mass == m)
+        .map(|r| (r.speed, f(r)))
+        .unzip()
+}
+
 fn main() {
     let dir = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "out".into()));
     std::fs::create_dir_all(&dir).expect("the output folder");
@@ -111,16 +130,16 @@ fn main() {
                 1e3 * th,
                 tc / th
             );
-            rows.push((mass, v, tc, th, fmax, c));
+            rows.push(Row {
+                mass,
+                speed: v,
+                contact: tc,
+                hertz: th,
+                force: fmax,
+                centroid: c,
+            });
         }
     }
-    let pick =
-        |m: f64, f: &dyn Fn(&(f64, f64, f64, f64, f64, f64)) -> f64| -> (Vec<f64>, Vec<f64>) {
-            rows.iter()
-                .filter(|r| r.0 == m)
-                .map(|r| (r.1, f(r)))
-                .unzip()
-        };
     let mut panels = Vec::new();
     let mut dur = Panel::new(
         "First contact duration",
@@ -137,14 +156,14 @@ fn main() {
     )
     .scales(Scale::Log10, Scale::Linear);
     for m in [0.2, 0.02] {
-        let (x, y) = pick(m, &|r| 1e3 * r.2);
+        let (x, y) = series(&rows, m, |r| 1e3 * r.contact);
         dur = dur
             .push(Series::line(format!("{m} kg, on the gong"), x, y).with_mark(Mark::LinePoints));
-        let (x, y) = pick(m, &|r| 1e3 * r.3);
+        let (x, y) = series(&rows, m, |r| 1e3 * r.hertz);
         dur = dur.push(Series::line(format!("{m} kg, Hertz rigid"), x, y));
-        let (x, y) = pick(m, &|r| r.4);
+        let (x, y) = series(&rows, m, |r| r.force);
         force = force.push(Series::line(format!("{m} kg"), x, y).with_mark(Mark::LinePoints));
-        let (x, y) = pick(m, &|r| r.5);
+        let (x, y) = series(&rows, m, |r| r.centroid);
         cent = cent.push(Series::line(format!("{m} kg"), x, y).with_mark(Mark::LinePoints));
     }
     panels.push(dur);
