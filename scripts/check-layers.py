@@ -119,7 +119,8 @@ CRATES = [
         "plugin/src/lib.rs",
         [
             # fake_host: the tests' host (test builds only); format: values to text and back.
-            ["fake_host", "format", "preset_state", "user_presets"],
+            # tuning: the saved Scala texts and their publication to the engine.
+            ["fake_host", "format", "preset_state", "tuning", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
             ["preset_ops"],
             ["editor"],
