@@ -45,7 +45,7 @@ fn quantity(id: ParamId) -> Quantity {
         YoungsModulus => Quantity::Modulus,
         StrikeAngle | PickupLeftAngle | PickupRightAngle => Quantity::Angle,
         StrikeRadius | PickupLeftPos | PickupRightPos | PluckPosition | ModWheelDepth
-        | BridgePosition => Quantity::Percent,
+        | BridgePosition | MalletHardness => Quantity::Percent,
         SimRate | BandLimit | TuningA4 | LowCut => Quantity::Frequency,
         StrikeDuration | ReleaseT60 => Quantity::Time,
         LinearDensity => Quantity::LinearDensity,
@@ -60,6 +60,8 @@ fn quantity(id: ParamId) -> Quantity {
         ContactStiffness => Quantity::Plain("N/m^α"),
         Gain => Quantity::Plain("dB"),
         KeyLevel => Quantity::Plain("dB/oct"),
+        MalletMass => Quantity::Plain("kg"),
+        MalletSpeed => Quantity::Plain("m/s"),
         PitchBendRange => Quantity::Plain("st"),
         _ => Quantity::Plain(""),
     }

@@ -6,7 +6,10 @@
 //! whole range -60..+60 dB) within the limiter's ceiling and with no sample clipped by the
 //! output stage's guard. Key tables (12-TET, and 19 steps per octave with every fifth key
 //! unmapped) are published between blocks, so the audio thread takes and retunes with them;
-//! per-note tuning and volume expressions arrive with the notes.
+//! per-note tuning and volume expressions arrive with the notes. The exciter is automated with
+//! the others (about half the blocks strike with the physical mallet, launched against the
+//! moving plate, with its mass, hardness and speed drawn over their ranges), and
+//! `mallet_blocks_never_allocate` plays the mallet alone.
 
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::{
@@ -199,5 +202,45 @@ fn process_never_allocates() {
             e.diverged_voices(),
             e.guarded_samples()
         );
+    }
+}
+
+/// Notes, re-strikes of sounding keys and mallet parameter automation with `exciter = mallet`
+/// throughout (the mallet launched, stepped, dropped) at 48 kHz and blocks of 1 to 512: no
+/// allocation, and the output within the limiter's ceiling (the limiter on).
+#[test]
+fn mallet_blocks_never_allocate() {
+    let params = Arc::new(SharedParams::new());
+    Preset::factory_named("gong-40N")
+        .unwrap()
+        .apply(&params)
+        .unwrap();
+    params.set(ParamId::Exciter, 1.0).unwrap();
+    params.set(ParamId::Limiter, 1.0).unwrap();
+    let (mut e, _h) = Engine::new(params.clone());
+    e.activate(48_000.0, 512).unwrap();
+    let mut rng = Rng(0x2545f4914f6cdd1d);
+    let (mut l, mut r) = (vec![0.0f32; 512], vec![0.0f32; 512]);
+    let mallet = [
+        ParamId::MalletMass,
+        ParamId::MalletHardness,
+        ParamId::MalletSpeed,
+    ];
+    for b in 0..600 {
+        let bs = [1usize, 64, 512][b % 3];
+        let key = 57 + (b % 6) as u8;
+        let events = [Event::new(
+            0,
+            EventKind::NoteOn {
+                key,
+                velocity: 0.2 + 0.8 * rng.next() as f32,
+            },
+        )];
+        for id in mallet {
+            let p = id.info();
+            let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;
+            params.set(id, (x as f32).clamp(p.min, p.max)).unwrap();
+        }
+        block(&mut e, true, &events, &mut l[..bs], &mut r[..bs]);
     }
 }

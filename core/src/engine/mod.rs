@@ -133,8 +133,8 @@ pub use kinds::{Material, ModelKind};
 pub use mix::SILENCE_RATIO;
 pub use output::{OutputStage, CEILING, LOOKAHEAD};
 pub use params::{
-    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, MATERIAL_NAMES, MODEL_NAMES,
-    ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
+    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, EXCITER_NAMES, MATERIAL_NAMES,
+    MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;
@@ -144,4 +144,7 @@ pub use telemetry::{
     Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
 };
 pub use tuning::{KeyTuning, SharedTuning, KEY_COUNT};
-pub use voice::VOICE_CEILING;
+pub use voice::{
+    mallet_law, MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_HOLD, MALLET_K_HARD, MALLET_K_SOFT,
+    MALLET_LOSS, MALLET_MAX_FLIGHT, VOICE_CEILING,
+};

@@ -72,6 +72,9 @@ pub const MODEL_NAMES: &[&str] = &[
 /// Names of the two values of a switch parameter (`limiter`).
 pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
 
+/// Names of [`ParamId::Exciter`] values: the prescribed force pulse or the physical mallet.
+pub const EXCITER_NAMES: &[&str] = &["pulse", "mallet"];
+
 /// Names of [`ParamId::Material`] values (see [`Material`](super::Material)).
 pub const MATERIAL_NAMES: &[&str] = &["steel", "bronze", "brass", "aluminium", "custom"];
 
@@ -220,6 +223,14 @@ params! {
         "Output limiter at -0.3 dBFS (1.5 ms look-ahead, transparent below it). Off: a hard clip at 0 dBFS remains.";
     KeyLevel, "key_level", "Level key tracking", "dB/oct", -12.0, 12.0, 0.0, F, false,
         "Each note's output level changes by this many dB per octave above the root key (below it, the opposite), evening out the models' loudness over the keyboard.";
+    Exciter, "exciter", "Exciter", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: EXCITER_NAMES }, false,
+        "Plates: 'pulse' strikes with the raised-cosine force (velocity scales its peak: the level); 'mallet' throws a mass through a felt at the plate (velocity sets its speed: level and timbre).";
+    MalletMass, "mallet_mass", "Mallet mass", "kg", 0.01, 2.0, 0.2, LOG, false,
+        "Plates, exciter 'mallet': the mallet head's mass M (0.2 kg: a gong beater).";
+    MalletHardness, "mallet_hardness", "Mallet hardness", "", 0.0, 1.0, 0.5, F, false,
+        "Plates, exciter 'mallet': 0 soft felt (K = 1e6 N/m^alpha, alpha = 2.5) to 1 hard (K = 1e9, alpha = 1.5, Hertz), log K and alpha linear in between.";
+    MalletSpeed, "mallet_speed", "Mallet speed", "m/s", 0.1, 10.0, 2.0, LOG, false,
+        "Plates, exciter 'mallet': impact speed at velocity 1; speed = value times velocity^curve (and the mod wheel as for the force).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

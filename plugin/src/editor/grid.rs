@@ -55,8 +55,12 @@ const SECTIONS: [Section; 7] = {
         Section {
             title: "Mallet",
             params: &[
+                Exciter,
                 StrikeDuration,
                 StrikeForce,
+                MalletMass,
+                MalletHardness,
+                MalletSpeed,
                 StrikeRadius,
                 StrikeAngle,
                 VelocityCurve,
@@ -133,7 +137,7 @@ pub fn relevant(id: ParamId, model: usize, material: usize) -> bool {
         YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
         Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
         | StrikeDuration | StrikeForce | PickupLeftAngle | PickupRightAngle | InPlaneModes
-        | Scheme | BandLimit => plate,
+        | Scheme | BandLimit | Exciter | MalletMass | MalletHardness | MalletSpeed => plate,
         Aspect => model == 2,
         Tension | LinearDensity | Inharmonicity | BridgePosition | ContactStiffness
         | ContactAlpha | PluckPosition | PluckAmplitude => string,

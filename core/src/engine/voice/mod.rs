@@ -24,10 +24,15 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+mod mallet;
 mod mapping;
 mod plate;
 mod string;
 
+pub use mallet::{
+    mallet_law, MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_HOLD, MALLET_K_HARD, MALLET_K_SOFT,
+    MALLET_LOSS, MALLET_MAX_FLIGHT,
+};
 use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
@@ -111,8 +116,9 @@ impl Voice {
 
     /// Starts note `key` at velocity `vel` (0..1] with mod wheel `wheel` (0..1). A voice
     /// already playing the same key is struck again without a reset (plates: a new force
-    /// pulse on the moving plate; strings: the pluck's shape added to the motion). Returns
-    /// `false` (voice left silent)
+    /// pulse, or with `exciter = mallet` a mallet launched at `mallet_speed · vel^curve` (times
+    /// the wheel's factor) against the moving plate; strings: the pluck's shape added to the
+    /// motion). Returns `false` (voice left silent)
     /// if the model refused the note's coefficients.
     pub fn start(&mut self, p: &Physics, key: u8, vel: f32, wheel: f32, now: u64) -> bool {
         let same = self.active && self.key == key;
@@ -137,7 +143,14 @@ impl Voice {
         let depth = v.get(ParamId::ModWheelDepth);
         let amount = (vel.clamp(0.0, 1.0).powf(curve) * (1.0 + depth * (2.0 * wheel - 1.0))) as f64;
         let ok = match &mut self.model {
+            VoiceModel::Plate(pv) if v.index_of(ParamId::Exciter) == 1 => {
+                // The mallet: velocity sets the impact speed (level and timbre). A zero speed
+                // (velocity or wheel at 0) strikes nothing, as a zero force would.
+                let speed = v.get(ParamId::MalletSpeed) as f64 * amount;
+                speed <= 0.0 || pv.launch_mallet(v, speed).is_ok()
+            }
             VoiceModel::Plate(pv) => {
+                pv.mallet.drop_mallet();
                 let peak = v.get(ParamId::StrikeForce) as f64 * amount;
                 match RaisedCosine::new(v.get(ParamId::StrikeDuration) as f64, peak) {
                     Ok(s) => {
@@ -237,10 +250,10 @@ impl Voice {
         }
     }
 
-    /// Whether an excitation force is still being applied.
+    /// Whether an excitation force is still being applied (a pulse, or a mallet in flight).
     pub fn exciting(&self) -> bool {
         match &self.model {
-            VoiceModel::Plate(pv) => pv.strike.is_some(),
+            VoiceModel::Plate(pv) => pv.strike.is_some() || pv.mallet.live(),
             VoiceModel::String(_) => false,
         }
     }

@@ -24,6 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::kinds::Material;
 use crate::engine::params::ParamId;
@@ -133,6 +134,8 @@ pub(crate) struct PlateVoice {
     pub strike: Option<RaisedCosine>,
     /// Steps since the strike started.
     pub strike_step: u64,
+    /// The physical mallet while it is in flight or in contact (exciter `mallet`).
+    pub mallet: VoiceMallet,
     /// Simulation rate (Hz).
     pub fs: f64,
 }
@@ -153,6 +156,7 @@ impl PlateVoice {
             size: 1.0,
             strike: None,
             strike_step: 0,
+            mallet: VoiceMallet::default(),
             fs,
         }
     }
@@ -204,6 +208,19 @@ impl PlateVoice {
         self.models[self.tier].reset();
         self.strike = None;
         self.strike_step = 0;
+        self.mallet.drop_mallet();
+    }
+
+    /// Strikes the sounding (or fresh) plate with a mallet at `speed` (m/s, > 0) built from
+    /// `v` (mass and hardness), at the strike point of the tier in use; a force pulse still
+    /// running is ended. Audio thread, no allocation.
+    pub fn launch_mallet(
+        &mut self,
+        v: &crate::engine::params::ParamValues,
+        speed: f64,
+    ) -> Result<(), crate::error::ParamError> {
+        self.strike = None;
+        self.mallet.launch(v, &self.models[self.tier], speed)
     }
 
     /// Unit-plate strike and pickup values in the frame of a strike at `angle` (rad).
@@ -314,6 +331,7 @@ impl PlateVoice {
         self.models[self.tier].reset();
         self.strike = None;
         self.strike_step = 0;
+        self.mallet.drop_mallet();
     }
 
     /// Advances `left.len()` steps, adding `gain ·` the pickups; `false` on divergence or
@@ -321,18 +339,23 @@ impl PlateVoice {
     pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
         let model = &mut self.models[self.tier];
         for (l, r) in left.iter_mut().zip(right.iter_mut()) {
-            let f = match self.strike {
-                Some(s) => {
-                    let t = self.strike_step as f64 / self.fs;
-                    self.strike_step += 1;
-                    if t > s.duration {
-                        self.strike = None;
+            let stepped = if self.mallet.live() {
+                self.mallet.step(model)
+            } else {
+                let f = match self.strike {
+                    Some(s) => {
+                        let t = self.strike_step as f64 / self.fs;
+                        self.strike_step += 1;
+                        if t > s.duration {
+                            self.strike = None;
+                        }
+                        s.force(t)
                     }
-                    s.force(t)
-                }
-                None => 0.0,
+                    None => 0.0,
+                };
+                model.step(f)
             };
-            if model.step(f).is_err() {
+            if stepped.is_err() {
                 return false;
             }
             let o = model.outputs();
