@@ -14,9 +14,10 @@
 //! ([`crate::models::plate::PlateModel::launch_mallet`]: nothing is reset) and the voice steps
 //! with [`crate::models::plate::PlateModel::step_with_mallet`]. It is dropped (the voice steps
 //! force-free again) once it has pushed for the last time [`MALLET_HOLD`] ago and is moving
-//! away from the plate, or [`MALLET_MAX_FLIGHT`] after its launch whatever it does: a player
-//! withdraws the beater, and rebounds (a second contact of a soft mallet on a moving gong)
-//! come within a few milliseconds. The mallet's Newton solve is capped at 100 evaluations a
+//! away from the plate, or [`MALLET_MAX_FLIGHT`] after its launch whatever it does: a player's
+//! hand withdraws the beater. A rebound within [`MALLET_HOLD`] of the last contact is kept;
+//! the later second strikes of a free heavy mallet (docs/models.md, "Velocity changes the
+//! timbre") are not played. The mallet's Newton solve is capped at 100 evaluations a
 //! step, so the work per step is bounded.
 //!
 //! Threads: built with the voice on the worker thread (an `Option` of plain data, no heap);
