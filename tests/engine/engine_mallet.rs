@@ -171,3 +171,25 @@ fn mallet_extremes_stay_within_the_ceiling() {
         assert!(p > 0.1, "silent: peak {p}");
     }
 }
+
+/// Out-of-range mallet values are refused with the parameter's key, the value and the range;
+/// the value is left unchanged.
+#[test]
+fn mallet_parameters_refuse_out_of_range() {
+    let params = SharedParams::new();
+    for (id, bad, key) in [
+        (ParamId::MalletSpeed, 20.0, "mallet_speed"),
+        (ParamId::MalletMass, 0.0, "mallet_mass"),
+        (ParamId::MalletHardness, 1.5, "mallet_hardness"),
+        (ParamId::Exciter, 2.0, "exciter"),
+        (ParamId::Exciter, 0.5, "exciter"),
+    ] {
+        let e = params.set(id, bad).unwrap_err();
+        let text = e.to_string();
+        println!("{text}");
+        assert_eq!(e.field, key);
+        assert!(text.contains(&format!("{bad}")), "{text}");
+        assert!(text.contains(&format!("{}", id.info().max)), "{text}");
+        assert_eq!(params.get(id), id.info().default);
+    }
+}
