@@ -8,15 +8,11 @@ use super::frequency::measure;
 use rustfft::{num_complex::Complex, FftPlanner};
 use std::f64::consts::PI;
 
-/// The fundamental (Hz) of `x` (sampled at `rate` Hz) near `expect` Hz: only the spectrum
-/// within `half_band` Hz of `expect` is kept. `None` when the band holds no oscillation
-/// (fewer than two periods; an empty band still holds the window's leakage, so check the
-/// result against `expect`). Offline (allocates).
-pub fn fundamental_near(x: &[f64], rate: f64, expect: f64, half_band: f64) -> Option<f64> {
+/// `x` (sampled at `rate` Hz), Hann-windowed, with only its spectrum within `half_band` Hz of
+/// `f` kept, back in the time domain (the inverse transform scaled by `1/n`). Offline
+/// (allocates).
+pub fn band_near(x: &[f64], rate: f64, f: f64, half_band: f64) -> Vec<f64> {
     let n = x.len();
-    if n < 4 {
-        return None;
-    }
     let mut buf: Vec<Complex<f64>> = x
         .iter()
         .enumerate()
@@ -30,12 +26,24 @@ pub fn fundamental_near(x: &[f64], rate: f64, expect: f64, half_band: f64) -> Op
     let mut planner = FftPlanner::new();
     planner.plan_fft_forward(n).process(&mut buf);
     for (k, b) in buf.iter_mut().enumerate() {
-        if ((k.min(n - k) as f64 * rate / n as f64) - expect).abs() > half_band {
+        if ((k.min(n - k) as f64 * rate / n as f64) - f).abs() > half_band {
             *b = Complex::new(0.0, 0.0);
         }
     }
     planner.plan_fft_inverse(n).process(&mut buf);
-    let y: Vec<f64> = buf.iter().map(|c| c.re).collect();
+    buf.iter().map(|c| c.re / n as f64).collect()
+}
+
+/// The fundamental (Hz) of `x` (sampled at `rate` Hz) near `expect` Hz: only the spectrum
+/// within `half_band` Hz of `expect` is kept ([`band_near`]). `None` when the band holds no
+/// oscillation (fewer than two periods; an empty band still holds the window's leakage, so
+/// check the result against `expect`). Offline (allocates).
+pub fn fundamental_near(x: &[f64], rate: f64, expect: f64, half_band: f64) -> Option<f64> {
+    let n = x.len();
+    if n < 4 {
+        return None;
+    }
+    let y = band_near(x, rate, expect, half_band);
     measure(&y[n / 10..n - n / 10], 1.0 / rate).map(|m| m.omega / (2.0 * PI))
 }
 

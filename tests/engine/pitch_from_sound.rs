@@ -12,7 +12,7 @@
 //! (0.0017 cent), is far below any mapping slip (a semitone is 5.9e-2, a tuning of 441 Hz
 //! instead of 440 is 2.3e-3). With the bend left out of the pitch map the bend cases fail.
 
-use noether::analysis::fundamental::fundamental_near;
+use noether::analysis::fundamental::{band_near, fundamental_near};
 use noether::engine::{scala_tuning, Engine, KeyTuning, ParamId, Preset, SharedParams};
 use noether::render::preset_accuracy::with_overrides;
 use std::sync::Arc;
@@ -218,23 +218,7 @@ fn note_expressions_tune_and_level_each_note() {
 
 /// `x`, Hann-windowed, with only its spectrum within 40 Hz of `f` kept (the estimator's mask).
 fn band(x: &[f64], f: f64) -> Vec<f64> {
-    use rustfft::{num_complex::Complex, FftPlanner};
-    let n = x.len();
-    let hann = |k: usize| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * k as f64 / n as f64).cos();
-    let mut buf: Vec<Complex<f64>> = x
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| Complex::new(v * hann(k), 0.0))
-        .collect();
-    let mut planner = FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
-    for (k, b) in buf.iter_mut().enumerate() {
-        if ((k.min(n - k) as f64 * RATE / n as f64) - f).abs() > 40.0 {
-            *b = Complex::new(0.0, 0.0);
-        }
-    }
-    planner.plan_fft_inverse(n).process(&mut buf);
-    buf.iter().map(|c| c.re / n as f64).collect()
+    band_near(x, RATE, f, 40.0)
 }
 
 /// Root-mean-square of `x`.

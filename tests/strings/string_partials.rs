@@ -8,12 +8,12 @@
 //! signal with the analysis module's crossing estimator (`analysis::frequency::measure`).
 
 use noether::analysis::frequency::{cents, measure};
+use noether::analysis::fundamental::band_near;
 use noether::models::string::{
     ContactLaw, Losses, Obstacle, OutputChannel, Quantity, Readout, StiffString, Stiffness,
     StringConfig, StringParams, TrianglePluck,
 };
 use noether::render::source::RenderSource;
-use rustfft::{num_complex::Complex, FftPlanner};
 use std::f64::consts::PI;
 
 /// Steel wire (E = 200 GPa) of the lecture's guitar string: L = 1 m, d = 0.43 mm,
@@ -71,25 +71,7 @@ fn render(n: usize) -> Vec<f64> {
 /// The window is positive, so the isolated partial keeps the crossings of the sinusoid; its
 /// sidelobes fall as 1/f³, so neighbours 98 Hz away leak in only at round-off.
 fn isolate(x: &[f64], f: f64, half_width: f64) -> Vec<f64> {
-    let n = x.len();
-    let mut buf: Vec<Complex<f64>> = x
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| {
-            let w = 0.5 - 0.5 * (2.0 * PI * k as f64 / n as f64).cos();
-            Complex::new(v * w, 0.0)
-        })
-        .collect();
-    let mut planner = FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
-    for (k, b) in buf.iter_mut().enumerate() {
-        let fk = k.min(n - k) as f64 * FS / n as f64;
-        if (fk - f).abs() > half_width {
-            *b = Complex::new(0.0, 0.0);
-        }
-    }
-    planner.plan_fft_inverse(n).process(&mut buf);
-    buf.iter().map(|c| c.re / n as f64).collect()
+    band_near(x, FS, f, half_width)
 }
 
 /// Partials 1 to 8 of the rendered pluck (2 s) against the closed form. Each partial is isolated
