@@ -51,6 +51,14 @@ pub enum NoteExpression {
     Tuning(f32),
     /// Output gain of this note (linear, 0 to [`MAX_NOTE_VOLUME`]; 1 is neutral).
     Volume(f32),
+    /// Pressure of the player's hand on this note's plate or string, 0 (off, neutral) to 1
+    /// (clamped): a hand resting on the instrument damps it (CLAP pressure, MPE channel
+    /// pressure).
+    Pressure(f32),
+    /// Brightness of this note's next strikes or plucks, 0 to 1 (clamped; 0.5 is neutral):
+    /// a harder mallet or a shorter pulse, a pluck nearer the string's end (CLAP brightness,
+    /// MPE's CC 74).
+    Brightness(f32),
 }
 
 /// An event at a sample offset inside the block given to

@@ -182,6 +182,12 @@ impl Engine {
             NoteExpression::Volume(g) if g.is_finite() => {
                 v.note_volume = g.clamp(0.0, MAX_NOTE_VOLUME);
             }
+            NoteExpression::Pressure(x) if x.is_finite() => {
+                v.note_pressure = x.clamp(0.0, 1.0);
+            }
+            NoteExpression::Brightness(x) if x.is_finite() => {
+                v.note_brightness = x.clamp(0.0, 1.0);
+            }
             _ => {}
         }
     }

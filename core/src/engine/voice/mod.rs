@@ -77,6 +77,12 @@ pub(crate) struct Voice {
     pub note_tuning: f32,
     /// The note's own gain (per-note volume expression; 1 at note-on).
     pub note_volume: f32,
+    /// The player's hand pressure on this note (per-note pressure expression, 0 to 1; 0 at
+    /// note-on). Audio thread.
+    pub note_pressure: f32,
+    /// The note's brightness (per-note brightness expression, 0 to 1; 0.5 at note-on).
+    /// Audio thread.
+    pub note_brightness: f32,
 }
 
 impl Voice {
@@ -95,6 +101,8 @@ impl Voice {
             level: 1.0,
             note_tuning: 0.0,
             note_volume: 1.0,
+            note_pressure: 0.0,
+            note_brightness: 0.5,
         }
     }
 
@@ -125,6 +133,7 @@ impl Voice {
         // Every note starts with neutral expressions.
         self.note_tuning = 0.0;
         self.note_volume = 1.0;
+        self.note_pressure = 0.0;
         if !same {
             self.reset();
             if let VoiceModel::Plate(pv) = &mut self.model {
