@@ -122,7 +122,8 @@ CRATES = [
             # tuning: the saved Scala texts and their publication to the engine.
             ["fake_host", "format", "preset_state", "tuning", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
-            ["preset_ops"],
+            # poly: the host's notes and their polyphonic modulation (reads `params`).
+            ["poly", "preset_ops"],
             ["editor"],
         ],
     ),

@@ -9,9 +9,12 @@
 //! per-note tuning and volume expressions arrive with the notes. The exciter is automated with
 //! the others (about half the blocks strike with the physical mallet, launched against the
 //! moving plate, with its mass, hardness and speed drawn over their ranges), and
-//! `mallet_blocks_never_allocate` plays the mallet alone.
+//! `mallet_blocks_never_allocate` plays the mallet alone. Every block also carries brightness
+//! and per-note values (polyphonic modulation) of random per-note parameters, some with the
+//! note-on, so strikes and pickups are re-placed on the audio thread.
 
 use assert_no_alloc::assert_no_alloc;
+use noether::engine::voice::modulation::POLY_PARAMS;
 use noether::engine::{
     Engine, Event, EventKind, KeyTuning, NoteExpression, ParamId, ParamKind, Preset, SharedParams,
     CEILING, KEY_COUNT, PARAMS,
@@ -58,6 +61,14 @@ fn block(e: &mut Engine, limiter: bool, events: &[Event], l: &mut [f32], r: &mut
 
 fn limiter(params: &SharedParams) -> bool {
     params.snapshot().index_of(ParamId::Limiter) == 1
+}
+
+/// A per-note value of a random per-note parameter, drawn over its range, for `key`.
+fn per_note(rng: &mut Rng, at: u32, key: u8) -> Event {
+    let param = POLY_PARAMS[(rng.next() * POLY_PARAMS.len() as f64) as usize % POLY_PARAMS.len()];
+    let info = param.info();
+    let value = info.min + (info.max - info.min) * rng.next() as f32;
+    Event::new(at, EventKind::NoteModulation { key, param, value })
 }
 
 #[test]
@@ -121,6 +132,17 @@ fn process_never_allocates() {
                             expression: NoteExpression::Volume(4.0 * rng.next() as f32),
                         },
                     ),
+                    // Brightness and a per-note value with the note-on (they shape its
+                    // strike), and another per-note value later in the block.
+                    Event::new(
+                        0,
+                        EventKind::NoteExpression {
+                            key,
+                            expression: NoteExpression::Brightness(rng.next() as f32),
+                        },
+                    ),
+                    per_note(&mut rng, 0, key),
+                    per_note(&mut rng, (bs / 3) as u32, key.wrapping_sub(1)),
                 ];
                 for p in PARAMS.iter().filter(|p| !p.rebuild) {
                     let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;

@@ -13,6 +13,7 @@ mod engine_alloc;
 mod engine_mallet;
 mod engine_threads;
 mod extreme_levels;
+mod per_note;
 mod pitch_from_sound;
 mod preset_levels;
 mod string_presets;

@@ -75,6 +75,8 @@ pub struct Engine {
     pub(super) tuning_applied: u64,
     pub(super) wheel: f32,
     pub(super) sustain: bool,
+    /// Keys sounding at the last [`Engine::sounding_keys`] that could read the bank.
+    pub(super) sounding_keys: u128,
     pub(super) frame: u64,
     pub(super) gain: f32,
     /// Low cut, limiter and full-scale guard at the host rate (rebuilt by `activate`).
@@ -142,6 +144,7 @@ impl Engine {
             tuning_applied: params.tuning().sequence(),
             wheel: 0.5,
             sustain: false,
+            sounding_keys: 0,
             frame: 0,
             gain: 1.0,
             output: OutputStage::new(48_000.0),

@@ -36,6 +36,18 @@ pub enum EventKind {
         /// What changes.
         expression: NoteExpression,
     },
+    /// The note sounding `key` gets its own value of one of the per-note parameters
+    /// ([`crate::engine::voice::modulation::POLY_PARAMS`]: a host's polyphonic modulation),
+    /// in the parameter's unit, clamped into its range. Ignored when no voice sounds the key,
+    /// for other parameters and for non-finite values; a new note starts with none.
+    NoteModulation {
+        /// MIDI key of the note.
+        key: u8,
+        /// The parameter.
+        param: crate::engine::params::ParamId,
+        /// The note's value (the parameter's unit).
+        value: f32,
+    },
 }
 
 /// Largest per-note tuning offset (semitones), either way: MPE's default bend range is 48.

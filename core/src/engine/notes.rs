@@ -5,7 +5,7 @@
 use super::audio::{Engine, RETUNE_INTERVAL};
 use super::events::{EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 use super::params::{ParamId, PARAMS};
-use super::voice::Physics;
+use super::voice::{Physics, VoiceModel};
 use ringbuf::traits::Consumer;
 
 impl Engine {
@@ -87,6 +87,9 @@ impl Engine {
                 }
             }
             EventKind::NoteExpression { key, expression } => self.note_expression(key, expression),
+            EventKind::NoteModulation { key, param, value } => {
+                self.note_modulation(key, param, value)
+            }
             EventKind::AllSoundOff => {
                 if let Some(b) = self.bank.as_mut() {
                     for v in &mut b.voices {
@@ -190,6 +193,43 @@ impl Engine {
             }
             _ => {}
         }
+    }
+
+    /// The note sounding `key` gets its own `value` of `param` (module doc of
+    /// [`crate::engine::voice::modulation`]): damping at the next chunk's retune, pickups at
+    /// once, strike values at its next strike. O(N_Φ) at most, no allocation.
+    fn note_modulation(&mut self, key: u8, param: ParamId, value: f32) {
+        let Some(b) = self.bank.as_mut() else {
+            return;
+        };
+        let Some(v) = b.voices.iter_mut().find(|v| v.active && v.key == key) else {
+            return;
+        };
+        if !v.overrides.set(param, value) {
+            return;
+        }
+        let own = v.overrides.get(param).unwrap_or(value) as f64;
+        match (param, &mut v.model) {
+            (ParamId::DampingScale, _) => v.dirty = true,
+            (ParamId::PickupLeftPos, VoiceModel::Plate(pv)) => pv.place_pickup(0, own),
+            (ParamId::PickupRightPos, VoiceModel::Plate(pv)) => pv.place_pickup(1, own),
+            _ => {}
+        }
+    }
+
+    /// Keys of the voices sounding now, as a bit set (bit `k` for MIDI key `k`): a host
+    /// layer compares it across blocks to tell the host which notes have ended (CLAP's note
+    /// end). While a late voice job holds the bank, the set of the last block that had it.
+    /// Audio thread, O(voices).
+    pub fn sounding_keys(&mut self) -> u128 {
+        if let Some(b) = self.bank.as_ref() {
+            self.sounding_keys = b
+                .voices
+                .iter()
+                .filter(|v| v.active)
+                .fold(0u128, |set, v| set | 1u128 << v.key.min(127));
+        }
+        self.sounding_keys
     }
 
     /// Retunes the sounding voices when playing values, the bend or the key table changed

@@ -89,6 +89,9 @@ fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
     let orders: Option<Vec<u32>> = (0..basis.n_phi()).map(|s| basis.cosine_order(s)).collect();
     match orders {
         Some(orders) if kind != ModelKind::RectPlate => Frame::Mirror {
+            basis: basis.clone(),
+            strike_radius,
+            pickup_radii: pickups.map(|(r, _)| r),
             orders,
             strike: basis.phi_all(&position(kind, strike_radius, 0.0)),
             pickups: pickups.map(|(r, _)| basis.phi_all(&position(kind, r, 0.0))),
@@ -98,6 +101,7 @@ fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
             basis: basis.clone(),
             strike_radius,
             pickups: pickups.map(|(r, a)| basis.phi_all(&position(kind, r, a))),
+            pickup_points: pickups,
         },
     }
 }

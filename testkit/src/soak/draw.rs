@@ -5,7 +5,10 @@
 //! Threads: everything here runs on the thread driving the engine, between blocks (it
 //! allocates only the event vector's growth, outside `process`).
 
-use noether_core::engine::{Event, EventKind, ParamInfo, ParamKind};
+use noether_core::engine::voice::modulation::POLY_PARAMS;
+use noether_core::engine::{
+    Event, EventKind, NoteExpression, ParamInfo, ParamKind, MAX_NOTE_TUNING, MAX_NOTE_VOLUME,
+};
 use oorandom::Rand64;
 
 /// Probability that a drawn parameter value is exactly its minimum (and, separately, its
@@ -99,10 +102,14 @@ pub struct StormCounts {
     pub controllers: u64,
     /// All-notes-off and all-sound-off events.
     pub panics: u64,
+    /// Per-note expressions (tuning, volume, pressure, brightness) and per-note parameter
+    /// values (polyphonic modulation).
+    pub per_note: u64,
 }
 
 /// The note storm: note-ons and note-offs at a mean rate, on every key, at random offsets in
-/// the block, with pitch bend, mod wheel and sustain. Driver thread only.
+/// the block, with pitch bend, mod wheel and sustain, per-note expressions and per-note
+/// parameter values. Driver thread only.
 pub struct Storm {
     /// Mean note-ons per second of host time (and as many note-offs).
     pub notes_per_second: f64,
@@ -164,6 +171,33 @@ impl Storm {
             let down = d.chance(0.5);
             out.push(Event::new(at(d), EventKind::Sustain(down)));
             self.counts.controllers += 1;
+        }
+        // Per-note expressions and values on a random key (most keys sound nothing: then
+        // they are ignored), at their extremes one time in five.
+        if d.chance(0.5) {
+            let key = d.below(128) as u8;
+            let expression = match d.below(4) {
+                0 => NoteExpression::Tuning(extreme(d, -MAX_NOTE_TUNING, MAX_NOTE_TUNING)),
+                1 => NoteExpression::Volume(extreme(d, 0.0, MAX_NOTE_VOLUME)),
+                2 => NoteExpression::Pressure(extreme(d, 0.0, 1.0)),
+                _ => NoteExpression::Brightness(extreme(d, 0.0, 1.0)),
+            };
+            out.push(Event::new(
+                at(d),
+                EventKind::NoteExpression { key, expression },
+            ));
+            self.counts.per_note += 1;
+        }
+        if d.chance(0.5) {
+            let key = d.below(128) as u8;
+            let param = POLY_PARAMS[d.below(POLY_PARAMS.len() as u64) as usize];
+            let info = param.info();
+            let value = extreme(d, info.min, info.max);
+            out.push(Event::new(
+                at(d),
+                EventKind::NoteModulation { key, param, value },
+            ));
+            self.counts.per_note += 1;
         }
         if d.chance(0.002) {
             let k = if d.chance(0.5) {

@@ -228,12 +228,13 @@ impl fmt::Display for SoakSummary {
         writeln!(
             f,
             "  notes: {} on, {} zero-velocity on, {} off ({:.0} note-ons per second of audio); \
-             {} controller events, {} all-off",
+             {} controller events, {} per-note events, {} all-off",
             st.note_ons,
             st.zero_velocity,
             st.note_offs,
             (st.note_ons + st.zero_velocity) as f64 / self.audio.max(1e-12),
             st.controllers,
+            st.per_note,
             st.panics
         )?;
         writeln!(f, "  parameter writes {}", self.param_writes)?;

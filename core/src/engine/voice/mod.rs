@@ -26,7 +26,9 @@
 
 mod mallet;
 mod mapping;
+pub mod modulation;
 mod plate;
+mod strike;
 mod string;
 
 pub use mallet::{
@@ -42,9 +44,9 @@ pub(crate) use string::StringVoice;
 
 use super::params::ParamId;
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
-use crate::models::plate::RaisedCosine;
 use crate::models::source::EnergyTerms;
-use crate::models::string::TrianglePluck;
+use modulation::NoteOverrides;
+use strike::{commit_plate, commit_string, PendingStrike};
 
 /// The model of a voice.
 pub(crate) enum VoiceModel {
@@ -83,6 +85,11 @@ pub(crate) struct Voice {
     /// The note's brightness (per-note brightness expression, 0 to 1; 0.5 at note-on).
     /// Audio thread.
     pub note_brightness: f32,
+    /// The note's own values of the per-note parameters (polyphonic modulation). Audio
+    /// thread.
+    pub overrides: NoteOverrides,
+    /// The strike or pluck of the last note-on, committed at the voice's next step.
+    pending: Option<PendingStrike>,
 }
 
 impl Voice {
@@ -102,7 +109,9 @@ impl Voice {
             note_tuning: 0.0,
             note_volume: 1.0,
             note_pressure: 0.0,
-            note_brightness: 0.5,
+            note_brightness: modulation::NEUTRAL_BRIGHTNESS,
+            overrides: NoteOverrides::default(),
+            pending: None,
         }
     }
 
@@ -111,8 +120,14 @@ impl Voice {
         !self.held && !self.sustained
     }
 
-    /// Re-applies the physical mapping for the current key. Returns `false` if refused.
+    /// Re-applies the physical mapping for the current key (with the note's own values of the
+    /// per-note parameters). Returns `false` if refused.
     pub fn retune(&mut self, p: &Physics) -> bool {
+        let own = Physics {
+            values: self.overrides.apply(p.values),
+            ..*p
+        };
+        let p = &own;
         self.dirty = false;
         self.level = key_level_gain(&p.values, self.key);
         let released = self.released();
@@ -130,10 +145,14 @@ impl Voice {
     /// if the model refused the note's coefficients.
     pub fn start(&mut self, p: &Physics, key: u8, vel: f32, wheel: f32, now: u64) -> bool {
         let same = self.active && self.key == key;
-        // Every note starts with neutral expressions.
+        // Every note starts with neutral expressions and no modulation of its own.
         self.note_tuning = 0.0;
         self.note_volume = 1.0;
         self.note_pressure = 0.0;
+        self.note_brightness = modulation::NEUTRAL_BRIGHTNESS;
+        self.overrides = NoteOverrides::default();
+        // A string not yet plucked (a fresh note whose pluck is still pending) stays fresh.
+        let fresh = !same || self.pending.is_some_and(|s| s.fresh);
         if !same {
             self.reset();
             if let VoiceModel::Plate(pv) = &mut self.model {
@@ -151,50 +170,31 @@ impl Voice {
         let curve = v.get(ParamId::VelocityCurve);
         let depth = v.get(ParamId::ModWheelDepth);
         let amount = (vel.clamp(0.0, 1.0).powf(curve) * (1.0 + depth * (2.0 * wheel - 1.0))) as f64;
-        let ok = match &mut self.model {
-            VoiceModel::Plate(pv) if v.index_of(ParamId::Exciter) == 1 => {
-                // The mallet: velocity sets the impact speed (level and timbre). A zero speed
-                // (velocity or wheel at 0) strikes nothing, as a zero force would.
-                let speed = v.get(ParamId::MalletSpeed) as f64 * amount;
-                speed <= 0.0 || pv.launch_mallet(v, speed).is_ok()
-            }
-            VoiceModel::Plate(pv) => {
-                pv.mallet.drop_mallet();
-                let peak = v.get(ParamId::StrikeForce) as f64 * amount;
-                match RaisedCosine::new(v.get(ParamId::StrikeDuration) as f64, peak) {
-                    Ok(s) => {
-                        pv.strike = Some(s);
-                        pv.strike_step = 0;
-                        true
-                    }
-                    Err(_) => false,
-                }
-            }
-            VoiceModel::String(sv) => {
-                let l = sv.model.params().length;
-                let pluck = TrianglePluck {
-                    position: v.get(ParamId::PluckPosition) as f64 * l,
-                    amplitude: v.get(ParamId::PluckAmplitude) as f64 * amount,
-                };
-                if same {
-                    // A sounding string is plucked again on its motion (no reset, no click).
-                    sv.model.add_pluck(&pluck).is_ok()
-                } else {
-                    // `pluck` resets the string: count the contact statistics first.
-                    sv.cap_hits_seen = 0;
-                    sv.model.pluck(&pluck).is_ok()
-                }
-            }
-        };
-        if !ok {
-            self.reset();
-            return false;
-        }
+        // The excitation itself is committed at the voice's next step (`strike.rs`), so the
+        // note's own expressions and modulations sent with its note-on shape it.
+        self.pending = Some(PendingStrike {
+            amount,
+            fresh,
+            values: p.values,
+        });
         self.active = true;
         self.started = now;
         self.peak_energy = 0.0;
         self.energy = 0.0;
         true
+    }
+
+    /// Commits the pending strike, if any (`strike.rs`). Returns `false` if its excitation
+    /// was refused (the caller silences the voice).
+    fn commit_strike(&mut self) -> bool {
+        let Some(s) = self.pending.take() else {
+            return true;
+        };
+        let v = self.overrides.apply(s.values);
+        match &mut self.model {
+            VoiceModel::Plate(pv) => commit_plate(pv, &s, v, self.note_brightness),
+            VoiceModel::String(sv) => commit_string(sv, &s, v, self.note_brightness),
+        }
     }
 
     /// Silences the voice (state at rest) and frees it. No allocation.
@@ -211,12 +211,16 @@ impl Voice {
         self.sustained = false;
         self.peak_energy = 0.0;
         self.energy = 0.0;
+        self.pending = None;
     }
 
     /// Advances `left.len()` steps, adding `gain ·` the two pickups into `left`/`right`.
     /// Returns `false` if the state became non-finite or `gain ·` a pickup passed
     /// [`super::VOICE_CEILING`] (the caller resets the voice and drops the chunk).
     pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        if !self.commit_strike() {
+            return false;
+        }
         match &mut self.model {
             VoiceModel::Plate(pv) => {
                 if !pv.run(left, right, gain) {
@@ -262,6 +266,7 @@ impl Voice {
     /// Whether an excitation force is still being applied (a pulse, or a mallet in flight).
     pub fn exciting(&self) -> bool {
         match &self.model {
+            _ if self.pending.is_some() => true,
             VoiceModel::Plate(pv) => pv.strike.is_some() || pv.mallet.live(),
             VoiceModel::String(_) => false,
         }

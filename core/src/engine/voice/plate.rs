@@ -48,6 +48,12 @@ pub(crate) const HEARD_FRACTION: f64 = 0.45;
 pub(crate) enum Frame {
     /// Circular plate in the strike-mirror basis: every mode is `Φ_s(r, 0) cos(n_s θ)`.
     Mirror {
+        /// The basis, for `Φ̂_s` at a note's own strike or pickup radius.
+        basis: PlateBasis,
+        /// Strike radius (fraction of the radius) of `strike`.
+        strike_radius: f64,
+        /// Pickup radii (fractions of the radius) of `pickups`.
+        pickup_radii: [f64; 2],
         /// Angular order `n_s` of each mode.
         orders: Vec<u32>,
         /// `Φ̂_s(r_strike, 0)` (unit plate).
@@ -65,6 +71,8 @@ pub(crate) enum Frame {
         strike_radius: f64,
         /// `Φ̂_s` at the left and right pickups (unit plate).
         pickups: [Vec<f64>; 2],
+        /// Pickup positions `(r, θ)` of `pickups` (fraction of the half-diagonal, rad).
+        pickup_points: [(f64, f64); 2],
     },
 }
 
@@ -128,6 +136,11 @@ pub(crate) struct PlateVoice {
     /// `Φ̂_s` at the strike and the pickups in the voice's frame (unit plate, every mode).
     strike_w: Vec<f64>,
     pickup_w: [Vec<f64>; 2],
+    /// Strike angle (rad) of the note's frame.
+    angle: f64,
+    /// The note's own strike radius and pickup radii, where they differ from the bank's.
+    own_strike: Option<f64>,
+    own_pickups: [Option<f64>; 2],
     /// Length scale `a` (m) of the last retune (weights scale as `1/a`).
     pub size: f64,
     /// The strike being applied, if any.
@@ -153,6 +166,9 @@ impl PlateVoice {
             zeta4: vec![0.0; np],
             strike_w: vec![0.0; nf],
             pickup_w: [vec![0.0; nf], vec![0.0; nf]],
+            angle: 0.0,
+            own_strike: None,
+            own_pickups: [None; 2],
             size: 1.0,
             strike: None,
             strike_step: 0,
@@ -204,6 +220,9 @@ impl PlateVoice {
             }
         }
         let angle = p.values.get(ParamId::StrikeAngle) as f64;
+        self.angle = angle;
+        self.own_strike = None;
+        self.own_pickups = [None; 2];
         self.set_frame(angle);
         self.models[self.tier].reset();
         self.strike = None;
@@ -223,20 +242,41 @@ impl PlateVoice {
         self.mallet.launch(v, &self.models[self.tier], speed)
     }
 
-    /// Unit-plate strike and pickup values in the frame of a strike at `angle` (rad).
+    /// Unit-plate strike and pickup values in the frame of a strike at `angle` (rad), at the
+    /// bank's radii or the note's own ([`Self::place_strike`], [`Self::place_pickup`]).
+    /// O(N_Φ); a note's own radius costs one mode-shape evaluation per mode. No allocation.
     fn set_frame(&mut self, angle: f64) {
+        let polar = |r: f64, a: f64| Position {
+            r: Some(r),
+            angle: Some(a),
+            ..Position::default()
+        };
         match &self.data.frame {
             Frame::Mirror {
+                basis,
                 orders,
                 strike,
                 pickups,
                 pickup_angles,
+                ..
             } => {
-                self.strike_w.copy_from_slice(strike);
+                match self.own_strike {
+                    None => self.strike_w.copy_from_slice(strike),
+                    Some(r) => {
+                        for (s, w) in self.strike_w.iter_mut().enumerate() {
+                            *w = basis.phi_at(s, &polar(r, 0.0));
+                        }
+                    }
+                }
                 for c in 0..2 {
                     let d = pickup_angles[c] - angle;
+                    let own = self.own_pickups[c];
                     for (s, w) in self.pickup_w[c].iter_mut().enumerate() {
-                        *w = pickups[c][s] * (orders[s] as f64 * d).cos();
+                        let radial = match own {
+                            None => pickups[c][s],
+                            Some(r) => basis.phi_at(s, &polar(r, 0.0)),
+                        };
+                        *w = radial * (orders[s] as f64 * d).cos();
                     }
                 }
             }
@@ -244,19 +284,68 @@ impl PlateVoice {
                 basis,
                 strike_radius,
                 pickups,
+                pickup_points,
             } => {
-                let at = Position {
-                    x: Some(0.5 + 0.5 * strike_radius * angle.cos()),
-                    y: Some(0.5 + 0.5 * strike_radius * angle.sin()),
+                let side = |r: f64, a: f64| Position {
+                    x: Some(0.5 + 0.5 * r * a.cos()),
+                    y: Some(0.5 + 0.5 * r * a.sin()),
                     ..Position::default()
                 };
+                let at = side(self.own_strike.unwrap_or(*strike_radius), angle);
                 for (s, w) in self.strike_w.iter_mut().enumerate() {
                     *w = basis.phi_at(s, &at);
                 }
-                for (w, p) in self.pickup_w.iter_mut().zip(pickups) {
-                    w.copy_from_slice(p);
+                for c in 0..2 {
+                    match self.own_pickups[c] {
+                        None => self.pickup_w[c].copy_from_slice(&pickups[c]),
+                        Some(r) => {
+                            let at = side(r, pickup_points[c].1);
+                            for (s, w) in self.pickup_w[c].iter_mut().enumerate() {
+                                *w = basis.phi_at(s, &at);
+                            }
+                        }
+                    }
                 }
             }
+        }
+    }
+
+    /// The bank's strike radius and pickup radii.
+    fn bank_radii(&self) -> (f64, [f64; 2]) {
+        match &self.data.frame {
+            Frame::Mirror {
+                strike_radius,
+                pickup_radii,
+                ..
+            } => (*strike_radius, *pickup_radii),
+            Frame::Fixed {
+                strike_radius,
+                pickup_points,
+                ..
+            } => (*strike_radius, pickup_points.map(|p| p.0)),
+        }
+    }
+
+    /// Puts the note's strikes at `radius` (the `strike_radius` parameter's fraction) from
+    /// the next one on: the strike weights are re-evaluated if it differs from where they
+    /// are. Audio thread; O(N_Φ) mode-shape evaluations when it moves, no allocation.
+    pub fn place_strike(&mut self, radius: f64) {
+        let own = (radius != self.bank_radii().0).then_some(radius);
+        if own != self.own_strike {
+            self.own_strike = own;
+            self.set_frame(self.angle);
+            self.write_weights(self.size);
+        }
+    }
+
+    /// Puts pickup `c` (0 left, 1 right) of the note at `radius` (the pickup position
+    /// parameter's fraction), at once. Audio thread; as [`Self::place_strike`].
+    pub fn place_pickup(&mut self, c: usize, radius: f64) {
+        let own = (radius != self.bank_radii().1[c]).then_some(radius);
+        if own != self.own_pickups[c] {
+            self.own_pickups[c] = own;
+            self.set_frame(self.angle);
+            self.write_weights(self.size);
         }
     }
 
