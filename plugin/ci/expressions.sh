@@ -10,7 +10,9 @@
 # loaded 2-core machine hits: two renders then differ and the fundamentals smear by 2e-4 to
 # 1.3e-3, where the audio thread alone measures 1e-8. `expression` renders CLAP tuning and
 # volume expressions on two overlapping notes and MPE member-channel bends, and measures each
-# note's fundamental and level (its module doc has the estimator and tolerances). Then each
+# note's fundamental and level (its module doc has the estimator and tolerances), a CLAP
+# polyphonic modulation of one note's damping (its decay rate) and the plugin's note ends
+# after the note-offs (release T60 0.1 s; plugin/test-host/src/polymod.rs). Then each
 # deliberately broken input (an expression or the MPE configuration left out) must fail.
 set -euo pipefail
 HOST=$1
@@ -22,7 +24,8 @@ mkdir -p "$OUT"
 python3 - "$ROOT/assets/presets/sitar-b0.toml" "$OUT/ideal-string.state" <<'PY'
 import json, struct, sys, tomllib
 params = tomllib.loads(open(sys.argv[1]).read())["params"]
-params.update(bridge_curvature=1.0, bridge_fraction=0.01, polyphony=2, gain=-12.0, threads=1)
+params.update(bridge_curvature=1.0, bridge_fraction=0.01, polyphony=2, gain=-12.0, threads=1,
+              release_t60=0.1)
 state = {}
 for key, value in params.items():
     if isinstance(value, int):
@@ -37,7 +40,7 @@ PY
 
 timeout 600 "$HOST" expression "$CLAP" "$OUT/ideal-string.state" --out "$OUT" \
     2>"$OUT/expression.log" | tee "$OUT/expression.out"
-for what in tuning volume mpe-config member-bend; do
+for what in tuning volume mpe-config member-bend poly-mod note-off; do
     if timeout 600 "$HOST" expression "$CLAP" "$OUT/ideal-string.state" --break "$what" \
         >"$OUT/broken-$what.out" 2>"$OUT/broken-$what.log"; then
         echo "expression passed with the $what left out"

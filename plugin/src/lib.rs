@@ -23,6 +23,7 @@ pub mod format;
 pub mod link;
 pub mod midi;
 pub mod params;
+pub mod poly;
 pub mod preset_ops;
 pub mod preset_state;
 pub mod presets;
@@ -45,6 +46,9 @@ use std::time::Duration;
 /// renders use the same bound): long enough for any job, bounded all the same.
 const OFFLINE_JOB_WAIT: Duration = Duration::from_secs(10);
 const EVENT_CAPACITY: usize = 1024;
+/// The most voices a bank holds (the `polyphony` parameter's maximum): the host's voice
+/// capacity for polyphonic modulation.
+const MAX_VOICES: u32 = 16;
 
 /// The plugin instance (one per host instance).
 pub struct Noether {
@@ -63,6 +67,8 @@ pub struct Noether {
     events: Vec<Event>,
     /// Which key sounds on which MIDI channel, MPE zones and bends (audio thread).
     midi: midi::MidiMap,
+    /// The host's notes, their polyphonic modulation and their ends (audio thread).
+    poly: poly::PolyVoices,
 }
 
 impl Default for Noether {
@@ -82,6 +88,7 @@ impl Default for Noether {
             engine,
             events: Vec::with_capacity(EVENT_CAPACITY),
             midi: midi::MidiMap::default(),
+            poly: poly::PolyVoices::default(),
         }
     }
 }
@@ -172,6 +179,7 @@ impl Plugin for Noether {
     fn reset(&mut self) {
         self.engine.reset();
         self.midi.reset();
+        self.poly.reset();
     }
 
     fn process(
@@ -184,11 +192,20 @@ impl Plugin for Noether {
         self.events.clear();
         while let Some(event) = context.next_event() {
             self.midi.translate(&event, &mut self.events);
+            self.poly
+                .observe(&event, &self.params, &mut self.events, |e| {
+                    // A host with no output event list gets no note ends.
+                    let _ = context.try_send_event(poly::terminated(event.timing(), e));
+                });
         }
         let [left, right] = buffer.as_slice() else {
             return ProcessStatus::Error("the plugin needs a stereo output");
         };
         self.engine.process_events(&self.events, left, right);
+        let last = (left.len() as u32).saturating_sub(1);
+        self.poly.end_voices(self.engine.sounding_keys(), |e| {
+            let _ = context.try_send_event(poly::terminated(last, e));
+        });
         if self.params.editor_state.is_open() {
             self.repaint.request_repaint();
         }
@@ -202,6 +219,11 @@ impl ClapPlugin for Noether {
         Some("Physical-model gongs, plates, sitar and tanpura with energy-conserving schemes");
     const CLAP_MANUAL_URL: Option<&'static str> = None;
     const CLAP_SUPPORT_URL: Option<&'static str> = None;
+    /// One voice per key (`crate::poly`): a new note on a sounding key takes its voice over.
+    const CLAP_POLY_MODULATION_CONFIG: Option<PolyModulationConfig> = Some(PolyModulationConfig {
+        max_voice_capacity: MAX_VOICES,
+        supports_overlapping_voices: false,
+    });
     const CLAP_FEATURES: &'static [ClapFeature] = &[
         ClapFeature::Instrument,
         ClapFeature::Synthesizer,

@@ -20,12 +20,20 @@
 //!   configuration message) until RPN 0 arrives on a member channel (it applies to the whole
 //!   zone, as the MPE specification says). Channels outside any zone keep the global bend.
 //!
-//! Parsed but not yet used by the engine (no event is sent): channel pressure and CC 74 on
-//! member channels (MPE's pressure and timbre), CLAP pressure, brightness, pan, vibrato and
-//! expression. Other events are ignored.
+//! - Pressure and brightness: CLAP's pressure and brightness expressions for a given key →
+//!   [`NoteExpression::Pressure`], [`NoteExpression::Brightness`]; channel pressure and CC 74
+//!   (MPE's pressure and timbre; on a channel outside MPE they act on the keys held on it) →
+//!   the same expressions for the keys held on the channel, CC 74's `c` as brightness
+//!   `c / 128` (64, MPE's default, is the neutral 0.5). Like bends, the channel's values sent
+//!   before a note-on apply to that note right after it (a note's strike is committed at its
+//!   first step, so its brightness shapes it).
+//!
+//! Parsed but not used (no event is sent): CLAP pan, vibrato and expression. Other events are
+//! ignored.
 
 use nice_plug::midi::Key;
 use nice_plug::prelude::*;
+use noether_core::engine::voice::modulation::NEUTRAL_BRIGHTNESS;
 use noether_core::engine::{Event, EventKind, NoteExpression};
 
 /// MPE's default pitch-bend sensitivity of member channels (semitones).
@@ -61,6 +69,10 @@ pub struct MidiMap {
     bend: [f32; 16],
     /// Selected RPN (MSB, LSB) per channel.
     rpn: [(u8, u8); 16],
+    /// Last channel pressure per channel, `[0, 1]`.
+    pressure: [f32; 16],
+    /// Last CC 74 per channel as brightness, `[0, 1)` (0.5 neutral).
+    brightness: [f32; 16],
     /// Data entry MSB of RPN 0 per channel (kept for the LSB, cents, that may follow).
     bend_semitones: [u8; 16],
     /// MPE lower zone (master channel 1), if configured.
@@ -74,6 +86,8 @@ impl Default for MidiMap {
         Self {
             key_channel: [NO_CHANNEL; 128],
             bend: [0.0; 16],
+            pressure: [0.0; 16],
+            brightness: [NEUTRAL_BRIGHTNESS; 16],
             rpn: [RPN_NULL; 16],
             bend_semitones: [0; 16],
             lower: None,
@@ -117,6 +131,8 @@ impl MidiMap {
     pub fn reset(&mut self) {
         self.key_channel = [NO_CHANNEL; 128];
         self.bend = [0.0; 16];
+        self.pressure = [0.0; 16];
+        self.brightness = [NEUTRAL_BRIGHTNESS; 16];
     }
 
     /// Whether MPE is on (some zone configured).
@@ -174,6 +190,28 @@ impl MidiMap {
                     None => return,
                 }
             }
+            NoteEvent::PolyPressure { key, pressure, .. } => {
+                match note_expr(&key, NoteExpression::Pressure(pressure)) {
+                    Some(k) => k,
+                    None => return,
+                }
+            }
+            NoteEvent::PolyBrightness {
+                key, brightness, ..
+            } => match note_expr(&key, NoteExpression::Brightness(brightness)) {
+                Some(k) => k,
+                None => return,
+            },
+            NoteEvent::MidiChannelPressure {
+                pressure, channel, ..
+            } => {
+                let Some(c) = self.pressure.get_mut(usize::from(channel)) else {
+                    return;
+                };
+                *c = pressure.clamp(0.0, 1.0);
+                let p = NoteExpression::Pressure(*c);
+                return self.express_channel(at, channel, p, out);
+            }
             NoteEvent::MidiPitchBend { value, channel, .. } => {
                 let bend = bend_of(value);
                 let Some(c) = self.bend.get_mut(usize::from(channel)) else {
@@ -194,18 +232,24 @@ impl MidiMap {
                 control_change::ALL_NOTES_OFF => EventKind::AllNotesOff,
                 // RPN selection and data entry: MPE configuration and bend sensitivity.
                 101 | 100 | 6 | 38 => return self.rpn(channel, cc, cc7(value)),
-                // CC 74 (MPE timbre): parsed, not yet used by the engine.
+                74 => {
+                    let Some(c) = self.brightness.get_mut(usize::from(channel)) else {
+                        return;
+                    };
+                    *c = f32::from(cc7(value)) / 128.0;
+                    let b = NoteExpression::Brightness(*c);
+                    return self.express_channel(at, channel, b, out);
+                }
                 _ => return,
             },
-            // Channel pressure (MPE pressure) and CLAP pressure, brightness, pan, vibrato and
-            // expression: parsed by nice-plug, not yet used by the engine.
+            // CLAP pan, vibrato and expression: parsed by nice-plug, not used.
             _ => return,
         };
         push(out, Event::new(at, kind));
     }
 
     /// A note-on: records its channel; on an MPE member channel, the channel's current bend
-    /// follows as the note's tuning.
+    /// follows as the note's tuning; on any channel, its pressure and CC 74 when not at rest.
     fn note_on(&mut self, at: u32, key: u8, velocity: f32, ch: Option<u8>, out: &mut Vec<Event>) {
         let Some(slot) = self.key_channel.get_mut(usize::from(key)) else {
             return;
@@ -221,6 +265,41 @@ impl MidiMap {
                     Event::new(at, EventKind::NoteExpression { key, expression }),
                 );
             }
+        }
+        if let Some(c) = ch.filter(|&c| c < 16).map(usize::from) {
+            for (expression, rest) in [
+                (
+                    NoteExpression::Pressure(self.pressure[c]),
+                    self.pressure[c] == 0.0,
+                ),
+                (
+                    NoteExpression::Brightness(self.brightness[c]),
+                    self.brightness[c] == NEUTRAL_BRIGHTNESS,
+                ),
+            ] {
+                if !rest {
+                    push(
+                        out,
+                        Event::new(at, EventKind::NoteExpression { key, expression }),
+                    );
+                }
+            }
+        }
+    }
+
+    /// `expression` for every key held on `channel`.
+    fn express_channel(
+        &self,
+        at: u32,
+        channel: u8,
+        expression: NoteExpression,
+        out: &mut Vec<Event>,
+    ) {
+        for (key, _) in (0u8..).zip(self.key_channel).filter(|&(_, c)| c == channel) {
+            push(
+                out,
+                Event::new(at, EventKind::NoteExpression { key, expression }),
+            );
         }
     }
 

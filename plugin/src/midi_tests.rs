@@ -161,31 +161,87 @@ fn clap_note_expressions() {
     };
     assert!(one(&mut m, any).is_empty(), "an expression for every key");
     let (voice_id, channel, key) = poly(Key::Number(62));
-    for unused in [
-        NoteEvent::PolyPressure {
-            timing: 0,
-            voice_id,
-            channel,
-            key,
-            pressure: 0.5,
-        },
-        NoteEvent::PolyBrightness {
-            timing: 0,
-            voice_id,
-            channel,
-            key,
-            brightness: 0.5,
-        },
-        NoteEvent::PolyPan {
-            timing: 0,
-            voice_id,
-            channel,
-            key,
-            pan: 0.5,
-        },
-    ] {
-        assert!(one(&mut m, unused).is_empty(), "{unused:?}");
-    }
+    let expr = |expression| {
+        vec![Event::new(
+            0,
+            EventKind::NoteExpression {
+                key: 62,
+                expression,
+            },
+        )]
+    };
+    let pressure = NoteEvent::PolyPressure {
+        timing: 0,
+        voice_id,
+        channel,
+        key,
+        pressure: 0.25,
+    };
+    assert_eq!(one(&mut m, pressure), expr(NoteExpression::Pressure(0.25)));
+    let brightness = NoteEvent::PolyBrightness {
+        timing: 0,
+        voice_id,
+        channel,
+        key,
+        brightness: 0.75,
+    };
+    assert_eq!(
+        one(&mut m, brightness),
+        expr(NoteExpression::Brightness(0.75))
+    );
+    let pan = NoteEvent::PolyPan {
+        timing: 0,
+        voice_id,
+        channel,
+        key,
+        pan: 0.5,
+    };
+    assert!(one(&mut m, pan).is_empty(), "pan is not used");
+}
+
+/// Channel pressure and CC 74 act on the keys held on their channel (MPE's pressure and
+/// timbre on a member channel); values sent before a note-on follow it; CC 74's 64 is the
+/// neutral brightness 0.5, and a channel at rest adds nothing to a note-on.
+#[test]
+fn channel_pressure_and_cc74_reach_their_notes() {
+    let mut m = MidiMap::default();
+    let expr = |key, expression| Event::new(0, EventKind::NoteExpression { key, expression });
+    let at5 = |key, expression| Event::new(5, EventKind::NoteExpression { key, expression });
+    let on = |key| Event::new(5, EventKind::NoteOn { key, velocity: 1.0 });
+    // At rest: a note-on alone.
+    assert_eq!(one(&mut m, note_on(3, 60)), vec![on(60)]);
+    assert_eq!(
+        one(&mut m, cc(3, 74, 127)),
+        vec![expr(60, NoteExpression::Brightness(127.0 / 128.0))]
+    );
+    let pressure = |channel, p| NoteEvent::MidiChannelPressure {
+        timing: 0,
+        channel,
+        pressure: p,
+    };
+    assert_eq!(
+        one(&mut m, pressure(3, 0.5)),
+        vec![expr(60, NoteExpression::Pressure(0.5))]
+    );
+    assert!(
+        one(&mut m, pressure(4, 0.5)).is_empty(),
+        "no key on channel 5"
+    );
+    // Sent before the note-on, on another channel: they follow it.
+    assert!(one(&mut m, cc(4, 74, 32)).is_empty());
+    assert_eq!(
+        one(&mut m, note_on(4, 62)),
+        vec![
+            on(62),
+            at5(62, NoteExpression::Pressure(0.5)),
+            at5(62, NoteExpression::Brightness(0.25)),
+        ]
+    );
+    assert_eq!(
+        one(&mut m, cc(4, 74, 64)),
+        vec![expr(62, NoteExpression::Brightness(0.5))],
+        "64 is neutral"
+    );
 }
 
 /// Without an MPE configuration a bend on any channel is the global bend; after one (lower
@@ -242,14 +298,6 @@ fn mpe_member_bends_tune_their_notes() {
     // RPN 0 on channel 3 (12 semitones, 50 cents) sets the range of the whole zone.
     rpn(&mut m, 2, 0, 12, Some(50));
     assert_eq!(one(&mut m, bend(1, 16383)), vec![tuning(9, 60, 12.5)]);
-    // Channel pressure and CC 74 (MPE pressure and timbre): parsed, not used yet.
-    let pressure = NoteEvent::MidiChannelPressure {
-        timing: 0,
-        channel: 1,
-        pressure: 0.5,
-    };
-    assert!(one(&mut m, pressure).is_empty());
-    assert!(one(&mut m, cc(1, 74, 90)).is_empty());
     // After the note-off the channel's bend tunes nothing.
     let off = NoteEvent::NoteOff {
         timing: 1,

@@ -14,6 +14,7 @@ use crate::tuning::{StoredTuning, TuningState};
 use nice_plug::editor::dpi::LogicalSize;
 use nice_plug::prelude::*;
 use nice_plug_egui::EguiEditorState;
+use noether_core::engine::voice::modulation::poly_slot;
 use noether_core::engine::{
     ParamId, ParamInfo, ParamKind, ParamValues, Preset, SharedParams, PARAMS,
 };
@@ -68,9 +69,14 @@ fn float_slot(info: &ParamInfo, log: bool) -> FloatParam {
         }
     };
     let id = info.id;
-    FloatParam::new(info.name, info.default, range)
+    let p = FloatParam::new(info.name, info.default, range)
         .with_value_to_string(Arc::new(move |v| format_value(id, v)))
-        .with_string_to_value(Arc::new(move |s| parse_value(id, s)))
+        .with_string_to_value(Arc::new(move |s| parse_value(id, s)));
+    // The per-note parameters carry their slot as the poly-modulation id (`crate::poly`).
+    match poly_slot(id) {
+        Some(slot) => p.with_poly_modulation_id(slot as u32),
+        None => p,
+    }
 }
 
 fn int_slot(info: &ParamInfo) -> IntParam {

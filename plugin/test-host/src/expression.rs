@@ -31,9 +31,12 @@
 //! semitones: 1.2e-2; 14-bit centre error 1/16383 of 48 semitones: 1.7e-4); level 1e-3
 //! (the engine's volume test; a volume left out is off by 0.5).
 //!
+//! - `clap poly modulation`, `note ends` and `per-note flags`: `polymod.rs`.
+//!
 //! `--break WHAT` leaves something out of what the host sends, and the checks must then fail
 //! (CI runs each): `tuning` (no CLAP tuning), `volume` (no CLAP volume), `mpe-config` (no MPE
-//! Configuration Message: every bend is the global one), `member-bend` (no member-channel bend).
+//! Configuration Message: every bend is the global one), `member-bend` (no member-channel
+//! bend), `poly-mod` (no polyphonic modulation), `note-off` (no note-offs: no note may end).
 //!
 //! Threads: the test host's main thread plays both the main and the audio thread.
 
@@ -86,6 +89,10 @@ pub enum Break {
     MpeConfig,
     /// The member-channel bends.
     MemberBend,
+    /// The polyphonic modulation (`polymod.rs`).
+    PolyMod,
+    /// The note-offs (`polymod.rs`: no note may end).
+    NoteOff,
 }
 
 /// Options of `expression`.
@@ -123,9 +130,11 @@ impl ExpressionOptions {
                         "volume" => Break::Volume,
                         "mpe-config" => Break::MpeConfig,
                         "member-bend" => Break::MemberBend,
+                        "poly-mod" => Break::PolyMod,
+                        "note-off" => Break::NoteOff,
                         other => {
                             return Err(format!(
-                            "--break: `{other}` is none of tuning, volume, mpe-config, member-bend"
+                            "--break: `{other}` is none of tuning, volume, mpe-config, member-bend, poly-mod, note-off"
                         ))
                         }
                     });
@@ -379,6 +388,7 @@ pub fn expression(o: &ExpressionOptions) -> Result<(), String> {
         format!("channel 3 key 62 {t3:+.5}"),
     );
     report("mpe", pitches(&x, &[(&w2, 55, t2), (&w3, 62, t3)]));
+    crate::polymod::poly_cases(&s, &blob, o.broken, f1(), &mut report)?;
     if failed.is_empty() {
         Ok(())
     } else {
