@@ -172,6 +172,63 @@ fn mallet_extremes_stay_within_the_ceiling() {
     }
 }
 
+/// The mallet strikes again by itself when the physics says so: the default 0.2 kg mallet
+/// rebounds slowly from the gong and the ringing plate catches it up again, several contacts
+/// from one note; a light hard mallet rebounds fast and leaves. Counted by the engine's
+/// `mallet_impacts` (contacts begun; the first block that saw each is printed). With the
+/// mallet dropped as soon as its contact ends and it moves away (tried by hand), the default
+/// mallet makes 2 contacts (its first pass and one re-contact before it turns away) and the
+/// test fails.
+#[test]
+fn the_mallet_strikes_again_when_the_plate_catches_it() {
+    let impacts = |mass: f32, hardness: f32, speed: f32| {
+        let params = Arc::new(SharedParams::new());
+        Preset::factory_named("gong-40N")
+            .unwrap()
+            .apply(&params)
+            .unwrap();
+        params.set(ParamId::Polyphony, 1.0).unwrap();
+        params.set(ParamId::Modes, 100.0).unwrap();
+        for (id, x) in [
+            (ParamId::Exciter, 1.0),
+            (ParamId::MalletMass, mass),
+            (ParamId::MalletHardness, hardness),
+            (ParamId::MalletSpeed, speed),
+        ] {
+            params.set(id, x).unwrap();
+        }
+        let (mut e, _h) = Engine::new(params);
+        assert!(e.activate(RATE, BLOCK).unwrap().is_none());
+        e.note_on(60, 1.0);
+        let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
+        let mut at = Vec::new();
+        let mut seen = 0;
+        for b in 0..(0.6 * RATE) as usize / BLOCK {
+            e.process(&mut l, &mut r);
+            if e.mallet_impacts() > seen {
+                seen = e.mallet_impacts();
+                at.push(b as f64 * BLOCK as f64 / RATE);
+            }
+        }
+        (e.mallet_impacts(), at)
+    };
+    for (mass, hardness, speed) in [(2.0, 0.0, 0.5), (0.5, 0.5, 2.0), (0.05, 0.5, 2.0)] {
+        let (n, at) = impacts(mass, hardness, speed);
+        println!("mallet {mass} kg, hardness {hardness}, {speed} m/s: {n} contacts, at {at:.4?} s");
+    }
+    // The default mallet (0.2 kg, hardness 0.5, 2 m/s): caught again four times within 50 ms.
+    let (n, at) = impacts(0.2, 0.5, 2.0);
+    println!("default mallet: {n} contacts, at {at:.4?} s");
+    assert!(n >= 3, "{n} contacts");
+    assert!(
+        at[1] > 0.005,
+        "a re-strike after the contact, not within it: {at:?}"
+    );
+    // A light hard mallet rebounds fast and never returns.
+    let (n, at) = impacts(0.02, 1.0, 2.0);
+    assert_eq!(n, 1, "{at:?}");
+}
+
 /// Out-of-range mallet values are refused with the parameter's key, the value and the range;
 /// the value is left unchanged.
 #[test]

@@ -88,6 +88,8 @@ pub struct Engine {
     pub(super) scratch: [Vec<f32>; 2],
     pub(super) watch: Option<u8>,
     pub(super) newton_cap_hits: u64,
+    /// Mallet contacts begun since the engine was created.
+    pub(super) mallet_impacts: u64,
     pub(super) diverged: u64,
     pub(super) refused: u64,
     // Telemetry accumulators.
@@ -153,6 +155,7 @@ impl Engine {
             scratch: [vec![0.0; CHUNK], vec![0.0; CHUNK]],
             watch: None,
             newton_cap_hits: 0,
+            mallet_impacts: 0,
             diverged: 0,
             refused: 0,
             tele_next: 0,
@@ -377,6 +380,7 @@ impl Engine {
             }
         }
         self.newton_cap_hits += t.hits;
+        self.mallet_impacts += t.impacts;
         self.diverged += t.diverged;
         self.late += t.late;
         if hold {

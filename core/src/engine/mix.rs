@@ -38,6 +38,8 @@ pub(crate) struct Tally {
     pub diverged: u64,
     /// Voice jobs still running when the wait ended (their chunk left out of the mix).
     pub late: u64,
+    /// Mallet contacts begun (strikes and re-strikes).
+    pub impacts: u64,
 }
 
 /// Voice `i` of the bank whose voice list starts at `base`, if its lane is at rest.
@@ -61,6 +63,7 @@ fn settle(v: &mut Voice, ok: bool, t: &mut Tally) {
         return;
     }
     t.hits += v.take_cap_hits();
+    t.impacts += v.take_impacts();
     let e = v.level_energy();
     v.energy = e;
     v.peak_energy = v.peak_energy.max(e);

@@ -120,6 +120,12 @@ impl Engine {
         v.active.then_some(v.key)
     }
 
+    /// Mallet contacts begun since the engine was created: every strike of the physical
+    /// mallet and every re-strike it makes by itself. Audio thread.
+    pub fn mallet_impacts(&self) -> u64 {
+        self.mallet_impacts
+    }
+
     /// Contact Newton solves that hit the cap since creation.
     pub fn newton_cap_hits(&self) -> u64 {
         self.newton_cap_hits

@@ -12,13 +12,20 @@
 //!
 //! **When the mallet runs.** A strike launches it just short of the (possibly moving) plate
 //! ([`crate::models::plate::PlateModel::launch_mallet`]: nothing is reset) and the voice steps
-//! with [`crate::models::plate::PlateModel::step_with_mallet`]. It is dropped (the voice steps
-//! force-free again) once it has pushed for the last time [`MALLET_HOLD`] ago and is moving
-//! away from the plate, or [`MALLET_MAX_FLIGHT`] after its launch whatever it does: a player's
-//! hand withdraws the beater. A rebound within [`MALLET_HOLD`] of the last contact is kept;
-//! the later second strikes of a free heavy mallet (docs/models.md, "Velocity changes the
-//! timbre") are not played. The mallet's Newton solve is capped at 100 evaluations a
-//! step, so the work per step is bounded.
+//! with [`crate::models::plate::PlateModel::step_with_mallet`]: it rebounds, and strikes again
+//! by itself whenever the plate's motion catches it up, as the physics says (a heavy mallet on
+//! a light plate strikes several times). It is dropped (the voice steps force-free again) only
+//! once it can never touch the plate again: moving away (no gravity acts on it, so it keeps
+//! its speed) and farther from the plate's rest plane than the plate can ever reach at the
+//! strike point. That reach follows from the plate's energy `E` (which only decreases once the
+//! mallet has left): the discrete energy bounds the step-mean displacement,
+//! `E ≥ (ρh/2) Σ_s ω̃_s² q̄_s²`, so by Cauchy-Schwarz
+//! `|w̄| ≤ √(2E/ρh · Σ_s Φ_s²/ω̃_s²)` at a point of weights `Φ_s`; the mallet is dropped past
+//! twice that bound (the margin covers the half step between `w̄` and `w(n)`), with
+//! `ω̃_s ≥ (2/h) sin(ω_s h/2)` (the exact scheme's modified frequency, the lower of the two
+//! schemes' values), checked every [`REACH_CHECK_STEPS`] steps. Whatever it does, it is
+//! dropped [`MALLET_MAX_FLIGHT`] after its launch: a player's hand withdraws the beater. The
+//! mallet's Newton solve is capped at 100 evaluations a step, so the work per step is bounded.
 //!
 //! Threads: built with the voice on the worker thread (an `Option` of plain data, no heap);
 //! launched and stepped on the audio thread without allocating.
@@ -39,8 +46,8 @@ pub const MALLET_ALPHA_HARD: f64 = 1.5;
 /// Felt loss `λ` (s/m) of the engine's mallet (Hunt-Crossley; `λ v = 0.2` at 2 m/s, as the
 /// gong-mallet scene): moderately lossy, fixed.
 pub const MALLET_LOSS: f64 = 0.1;
-/// Time (s) without contact force, moving away, after which the mallet is dropped.
-pub const MALLET_HOLD: f64 = 0.005;
+/// Steps between two checks of whether the mallet can still reach the plate (module doc).
+pub const REACH_CHECK_STEPS: u64 = 16;
 /// Longest time (s) a mallet is simulated after its launch.
 pub const MALLET_MAX_FLIGHT: f64 = 0.5;
 
@@ -60,8 +67,14 @@ pub(crate) struct VoiceMallet {
     mallet: Option<Mallet>,
     /// Steps since the launch.
     steps: u64,
-    /// Steps since the last step with a contact force.
-    quiet: u64,
+    /// `2 Σ_s Φ_s²/ω̃_s² / ρh` at the strike point (m²/J): the plate can never reach past
+    /// `√(reach · E)` there (module doc).
+    reach: f64,
+    /// Contacts begun (first strikes and the later ones) not yet taken by
+    /// [`Self::take_impacts`].
+    impacts: u32,
+    /// Whether the last step had a contact force.
+    touching: bool,
 }
 
 impl VoiceMallet {
@@ -75,13 +88,20 @@ impl VoiceMallet {
         self.mallet = None;
     }
 
+    /// Contacts begun since the last call (every strike and re-strike of the felt).
+    pub fn take_impacts(&mut self) -> u32 {
+        std::mem::take(&mut self.impacts)
+    }
+
     /// Builds a mallet from `v` (mass, hardness) for `model`'s time step and launches it at
-    /// `speed` (m/s, > 0) at `model`'s force point. No allocation. Errors name the field.
+    /// `speed` (m/s, > 0) at `model`'s force point, whose reach coefficient is `reach`
+    /// (`2 Σ_s Φ_s²/ω̃_s² / ρh`, m²/J, module doc). No allocation. Errors name the field.
     pub fn launch(
         &mut self,
         v: &ParamValues,
         model: &PlateModel<CouplingTensor>,
         speed: f64,
+        reach: f64,
     ) -> Result<(), ParamError> {
         let (k, alpha) = mallet_law(v.get(ParamId::MalletHardness) as f64);
         let mass = v.get(ParamId::MalletMass) as f64;
@@ -89,7 +109,8 @@ impl VoiceMallet {
         model.launch_mallet(&mut m, speed)?;
         self.mallet = Some(m);
         self.steps = 0;
-        self.quiet = 0;
+        self.reach = reach;
+        self.touching = false;
         Ok(())
     }
 
@@ -101,12 +122,16 @@ impl VoiceMallet {
         };
         model.step_with_mallet(m)?;
         self.steps += 1;
-        self.quiet = if m.force() > 0.0 { 0 } else { self.quiet + 1 };
+        let touching = m.force() > 0.0;
+        self.impacts += u32::from(touching && !self.touching);
+        self.touching = touching;
         let h = model.h();
-        let away = m.position_velocity().1 <= 0.0;
-        if (away && self.quiet as f64 * h >= MALLET_HOLD)
-            || self.steps as f64 * h >= MALLET_MAX_FLIGHT
-        {
+        let (y, speed) = m.position_velocity();
+        let gone = !touching
+            && speed <= 0.0
+            && self.steps % REACH_CHECK_STEPS == 0
+            && y < -2.0 * (self.reach * model.energy().total().max(0.0)).sqrt();
+        if gone || self.steps as f64 * h >= MALLET_MAX_FLIGHT {
             self.mallet = None;
         }
         Ok(())

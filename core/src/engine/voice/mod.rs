@@ -32,8 +32,8 @@ mod strike;
 mod string;
 
 pub use mallet::{
-    mallet_law, MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_HOLD, MALLET_K_HARD, MALLET_K_SOFT,
-    MALLET_LOSS, MALLET_MAX_FLIGHT,
+    mallet_law, MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_K_HARD, MALLET_K_SOFT, MALLET_LOSS,
+    MALLET_MAX_FLIGHT, REACH_CHECK_STEPS,
 };
 use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
@@ -290,6 +290,14 @@ impl Voice {
         match &self.model {
             VoiceModel::Plate(_) => e.kinetic + e.linear,
             VoiceModel::String(_) => e.total(),
+        }
+    }
+
+    /// Mallet contacts begun since the last call (plates with the mallet; 0 otherwise).
+    pub fn take_impacts(&mut self) -> u64 {
+        match &mut self.model {
+            VoiceModel::Plate(pv) => u64::from(pv.mallet.take_impacts()),
+            VoiceModel::String(_) => 0,
         }
     }
 

@@ -143,6 +143,8 @@ pub(crate) struct PlateVoice {
     own_pickups: [Option<f64>; 2],
     /// Length scale `a` (m) of the last retune (weights scale as `1/a`).
     pub size: f64,
+    /// Mass per area `ρh` (kg/m²) of the last retune.
+    rho_h: f64,
     /// The strike being applied, if any.
     pub strike: Option<RaisedCosine>,
     /// Steps since the strike started.
@@ -170,6 +172,7 @@ impl PlateVoice {
             own_strike: None,
             own_pickups: [None; 2],
             size: 1.0,
+            rho_h: 1.0,
             strike: None,
             strike_step: 0,
             mallet: VoiceMallet::default(),
@@ -239,7 +242,26 @@ impl PlateVoice {
         speed: f64,
     ) -> Result<(), crate::error::ParamError> {
         self.strike = None;
-        self.mallet.launch(v, &self.models[self.tier], speed)
+        let reach = self.reach();
+        self.mallet.launch(v, &self.models[self.tier], speed, reach)
+    }
+
+    /// `2 Σ_s Φ_s²/ω̃_s² / ρh` (m²/J) at the strike point over the modes driven (module doc
+    /// of [`super::mallet`]): `ω̃_s = (2/h) sin(ω_s h/2)`, the lower bound of both schemes'
+    /// modified frequencies. Audio thread, O(N_Φ).
+    fn reach(&self) -> f64 {
+        let h = 1.0 / self.fs;
+        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let n = self.data.tiers[self.tier].0;
+        let sum: f64 = (0..n)
+            .filter(|&s| self.omega[s] < wmax && self.omega[s] > 0.0)
+            .map(|s| {
+                let phi = self.strike_w[s] / self.size;
+                let w = 2.0 / h * (0.5 * self.omega[s] * h).sin();
+                phi * phi / (w * w)
+            })
+            .sum();
+        2.0 * sum / self.rho_h
     }
 
     /// Unit-plate strike and pickup values in the frame of a strike at `angle` (rad), at the
@@ -392,6 +414,7 @@ impl PlateVoice {
             .is_ok();
         if ok {
             self.size = a;
+            self.rho_h = rho_h;
             self.write_weights(a);
         }
         ok
