@@ -21,7 +21,7 @@ const CONSERVATIVE: [PlateScheme; 3] = [
 ];
 
 /// SplitMix64: deterministic uniform numbers in [-1, 1).
-pub(crate) struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
     pub(crate) fn next(&mut self) -> f64 {

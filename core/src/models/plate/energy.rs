@@ -20,8 +20,12 @@ pub struct PlateEnergy {
     /// quadratised `ψ(n-½)²/2` instead.
     pub nonlinear: f64,
     /// Cumulative energy removed by damping since the initial state,
-    /// `Σ_m h ρh Σ_s c̃_s (δ_{t.} q_s(m))²` (J), exactly as the discrete identity gives.
+    /// `Σ_m h ρh Σ_s c̃_s (δ_{t.} q_s(m))²` (J), exactly as the discrete identity gives, plus
+    /// the hand's [`Self::hand_dissipated`].
     pub dissipated: f64,
+    /// The part of [`Self::dissipated`] removed by the player's hand (a point damper),
+    /// `Σ_m -h F_h(m) δ_{t.} w_h(m) = Σ_m h c (δ_{t.} w_h(m))²` (J, ≥ 0; 0 without a hand).
+    pub hand_dissipated: f64,
     /// Cumulative work done by the external force since the initial state,
     /// `Σ_m h F(m) Σ_s Φ_s δ_{t.} q_s(m)` (J).
     pub work: f64,

@@ -106,5 +106,5 @@ pub use excitation::{
     damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
 };
 pub use mallet::{Mallet, MalletEnergy};
-pub use model::{Diverged, OutputSample, PlateModel};
+pub use model::{hand_damping_for_t60, Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};

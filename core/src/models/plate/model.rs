@@ -18,6 +18,8 @@ use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
 use crate::error::{check_finite, ParamError};
 use free_response::free_response_backward;
+pub use hand::hand_damping_for_t60;
+use hand::Hand;
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
 /// non-finite values can cause): the model outputs zeros until [`PlateModel::reset`] or
@@ -103,6 +105,8 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     solver: Option<SpdSolver>,
     /// Auxiliary state and scratch of the SAV scheme (`None` for the other schemes).
     sav: Option<SavStep>,
+    /// The player's hand (a point damper, [`hand`]); `c = 0` without one.
+    hand: Hand,
     energy: PlateEnergy,
     track_energy: bool,
     diverged: bool,
@@ -189,6 +193,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             kscratch: vec![0.0; coupling.kernel_scratch_len()],
             solver,
             sav: (params.scheme == PlateScheme::SavExact).then(|| SavStep::new(nf, np)),
+            hand: Hand::new(nf),
             energy: PlateEnergy::default(),
             track_energy: true,
             diverged: false,
@@ -207,6 +212,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             sav.psi = 0.0;
         }
         self.outputs.fill(0.0);
+        self.hand.force = 0.0;
         self.energy = PlateEnergy::default();
         self.diverged = false;
     }
@@ -292,6 +298,10 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             );
         } else if self.linearly_implicit_step(fscale).is_err() {
             return Err(self.fail());
+        }
+        if self.hand.c > 0.0 {
+            self.apply_hand(false);
+            self.refresh_b_next();
         }
         self.finish_step(force)
     }
@@ -472,29 +482,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         })
     }
 
-    /// Each mode's continuous damped frequency `√(ω² - c²/4)` against the frequency of the
-    /// scheme's linear recursion `q⁺ - (b/a) q + (d/a) q⁻` (Hz; [`crate::analysis::dispersion`]):
-    /// identical for the exact linear part, warped for θ = 1. Modes that do not oscillate in
-    /// either are left out. Any thread owning the model; allocates.
-    pub fn linear_partials(&self) -> Vec<crate::analysis::dispersion::LinearPartial> {
-        use crate::analysis::dispersion::{damped_frequency, two_step_frequency, LinearPartial};
-        (0..self.q.len())
-            .filter_map(|s| {
-                let exact = damped_frequency(self.omega[s], 0.5 * self.damping[s])?;
-                let sim = two_step_frequency(self.b[s] / self.a[s], self.d[s] / self.a[s], self.h)?;
-                Some(LinearPartial {
-                    exact_hz: exact / std::f64::consts::TAU,
-                    simulated_hz: sim / std::f64::consts::TAU,
-                })
-            })
-            .collect()
-    }
-
-    /// The effective linear-part coefficients `(ω̃_s², c̃_s)` (rad²/s², 1/s) of mode `s`.
-    pub fn linear_coefficients(&self, s: usize) -> (f64, f64) {
-        (self.omega_sq[s], self.c_eff[s])
-    }
-
     /// The SAV scheme's auxiliary variable `ψ(n-½)` (√J; `ψ²/2` is its in-plane energy, an
     /// `O(h²)` approximation of `U(q)`), `None` for the other schemes. Any thread owning the model.
     pub fn sav_psi(&self) -> Option<f64> {
@@ -549,6 +536,9 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.energy.dissipated += h * rho_h * diss;
         self.energy.work += h * force * pw;
+        if self.hand.c > 0.0 {
+            self.hand_power();
+        }
     }
 
     /// Recomputes `t`, `v`, `u` from `q(n)`, `q(n-1)`, `Ĥ(q(n), q(n-1))`.
@@ -573,6 +563,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         };
         if reset_accumulators {
             self.energy.dissipated = 0.0;
+            self.energy.hand_dissipated = 0.0;
             self.energy.work = 0.0;
             self.energy.step = 0;
         }
@@ -595,6 +586,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
 }
 
 mod free_response;
+mod hand;
 mod mallet_step;
 mod retune;
 pub use retune::Unstable;

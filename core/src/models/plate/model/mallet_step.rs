@@ -40,7 +40,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         let h2_over_rho_h = self.h * self.h / self.rho_h;
         // Force-free q*(n+1), then z = ∂q(n+1)/∂F into `f`.
-        let mut sav_gz = 0.0;
         if let Some(sav) = self.sav.as_mut() {
             let k = SavCoefficients {
                 inv_a: &self.inv_a,
@@ -57,26 +56,17 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 0.0,
                 &mut self.q_next,
             );
-            sav_gz = sav.unit_response(&k, &mut self.f);
-        } else {
-            if self.linearly_implicit_step(0.0).is_err() {
-                return Err(self.fail());
-            }
-            match self.solver.as_mut() {
-                None => {
-                    for ((z, &ia), &phi) in
-                        self.f.iter_mut().zip(&self.inv_a).zip(&self.force_weights)
-                    {
-                        *z = h2_over_rho_h * ia * phi;
-                    }
-                }
-                Some(solver) => {
-                    for (r, &phi) in self.r.iter_mut().zip(&self.force_weights) {
-                        *r = h2_over_rho_h * phi;
-                    }
-                    solver.solve_factored(&self.inv_a, &self.r, &mut self.f);
-                }
-            }
+        } else if self.linearly_implicit_step(0.0).is_err() {
+            return Err(self.fail());
+        }
+        let mut sav_gz = self.unit_response(false);
+        // The hand (if any) eliminated: F_h = F_h0 + k F, q* and z shifted (see `hand`).
+        let hand = self.hand.c > 0.0;
+        let (mut hand_k, mut fh0) = (0.0, 0.0);
+        if hand {
+            let (f0, k, kgz) = self.apply_hand(true);
+            (fh0, hand_k) = (f0, k);
+            sav_gz += kgz;
         }
         let w_star = dot(&self.force_weights, &self.q_next);
         let compliance = dot(&self.force_weights, &self.f);
@@ -86,13 +76,15 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             for (q, &z) in self.q_next.iter_mut().zip(&self.f) {
                 *q += force * z;
             }
-            match self.sav.as_mut() {
-                Some(sav) => sav.psi += 0.5 * force * sav_gz,
-                None => {
-                    crate::models::flush_tiny(&mut self.q_next);
-                    self.update_b_next();
-                }
+            if let Some(sav) = self.sav.as_mut() {
+                sav.psi += 0.5 * force * sav_gz;
             }
+        }
+        if hand {
+            self.hand.force = fh0 + hand_k * force;
+        }
+        if force != 0.0 || hand {
+            self.refresh_b_next();
         }
         self.finish_step(force)
     }

@@ -124,6 +124,29 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         &mut self.pickups[index].weights
     }
 
+    /// Each mode's continuous damped frequency `√(ω² - c²/4)` against the frequency of the
+    /// scheme's linear recursion `q⁺ - (b/a) q + (d/a) q⁻` (Hz; [`crate::analysis::dispersion`]):
+    /// identical for the exact linear part, warped for θ = 1. Modes that do not oscillate in
+    /// either are left out. Any thread owning the model; allocates.
+    pub fn linear_partials(&self) -> Vec<crate::analysis::dispersion::LinearPartial> {
+        use crate::analysis::dispersion::{damped_frequency, two_step_frequency, LinearPartial};
+        (0..self.q.len())
+            .filter_map(|s| {
+                let exact = damped_frequency(self.omega[s], 0.5 * self.damping[s])?;
+                let sim = two_step_frequency(self.b[s] / self.a[s], self.d[s] / self.a[s], self.h)?;
+                Some(LinearPartial {
+                    exact_hz: exact / std::f64::consts::TAU,
+                    simulated_hz: sim / std::f64::consts::TAU,
+                })
+            })
+            .collect()
+    }
+
+    /// The effective linear-part coefficients `(ω̃_s², c̃_s)` (rad²/s², 1/s) of mode `s`.
+    pub fn linear_coefficients(&self, s: usize) -> (f64, f64) {
+        (self.omega_sq[s], self.c_eff[s])
+    }
+
     /// Physical damping coefficients `c_s` (1/s) in use.
     pub fn damping(&self) -> &[f64] {
         &self.damping
