@@ -8,6 +8,7 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod string_alloc;
 mod string_bounce;
+mod string_hand;
 mod string_model;
 mod string_partials;
 mod string_render;

@@ -160,6 +160,8 @@ pub struct StiffString {
     obstacle_force: f64,
     /// Steps since the last initial condition.
     steps: u64,
+    /// The player's hand (a point damper, [`hand`]); `c = 0` without one.
+    hand: hand::StringHand,
 }
 
 impl StiffString {
@@ -228,6 +230,7 @@ impl StiffString {
             obstacle_force: 0.0,
             steps: 0,
             start_index: 0,
+            hand: hand::StringHand::new(m),
         })
     }
 
@@ -240,6 +243,8 @@ impl StiffString {
         self.contact_f.fill(0.0);
         self.stats = ContactStats::default();
         self.dissipated = 0.0;
+        self.hand.dissipated = 0.0;
+        self.hand.force = 0.0;
         self.work = 0.0;
         self.strike = None;
         self.strike_time = 0.0;
@@ -563,5 +568,6 @@ impl RenderSource for StiffString {
 }
 
 mod contact_step;
+mod hand;
 mod retune;
 mod step;

@@ -93,6 +93,10 @@ impl StiffString {
             shape: &self.strike_shape,
             kf: k * fe,
         });
+        // 1b. The player's hand, in closed form (it moves no obstacle node, see `hand`).
+        if self.hand.c > 0.0 {
+            self.apply_hand(rows_path);
+        }
         // 2. Free grid displacement u_free = S (q + Δ_free): at the needed nodes from the
         //    stored rows, or on the whole grid by one DST.
         match (&mut self.rows, rows_path) {
@@ -129,6 +133,9 @@ impl StiffString {
                 w += s * (dn + d);
             }
             self.work += 0.5 * fe * w;
+        }
+        if self.hand.c > 0.0 {
+            self.hand_power();
         }
         // 6. Dissipation h·2μs(δ_t.q)², rotation and flush in one pass.
         let d = self.arch.dispatch(Finish {
