@@ -99,8 +99,8 @@ fn balance_drift(scheme: PlateScheme, c: f64, with_mallet: bool, count_hand: boo
 /// striking 8 times (felt loss on, modal damping 3 1/s), the power balance (stored +
 /// dissipated by modes, felt and hand - work - launched) closes to round-off on every scheme.
 /// Bound 5e-13 relative to the largest stored energy, as the mallet's lossy balance (the
-/// same ~1e4 steps of `ε`-sized errors in energies of that size; Störmer-Verlet on its linear
-/// plate 1.5e-12, as there). Measured (`--nocapture`): at most 9e-14. The hand takes a
+/// random walk of 8820 steps' rounding of a few `ε` each, `√8820 · 20 ε ≈ 4e-13`;
+/// Störmer-Verlet on its linear plate 1.5e-12, as there). Measured (`--nocapture`): at most 9e-14. The hand takes a
 /// large part of the energy (hand_dissipated > 10 % of the starting energy). Left out of the
 /// balance, the hand's dissipation opens it by that part: the same check then fails (> 1e-2;
 /// measured 0.51 to 0.87, also with the bookkeeping removed from the model).
