@@ -6,7 +6,8 @@
 //! whole range -60..+60 dB) within the limiter's ceiling and with no sample clipped by the
 //! output stage's guard. Key tables (12-TET, and 19 steps per octave with every fifth key
 //! unmapped) are published between blocks, so the audio thread takes and retunes with them;
-//! per-note tuning and volume expressions arrive with the notes. The exciter is automated with
+//! per-note tuning, volume and pressure expressions arrive with the notes (a pressure puts the
+//! player's hand, a point damper, on the plate with the force pulse or the mallet). The exciter is automated with
 //! the others (about half the blocks strike with the physical mallet, launched against the
 //! moving plate, with its mass, hardness and speed drawn over their ranges), and
 //! `mallet_blocks_never_allocate` plays the mallet alone. Every block also carries brightness
@@ -143,6 +144,13 @@ fn process_never_allocates() {
                     ),
                     per_note(&mut rng, 0, key),
                     per_note(&mut rng, (bs / 3) as u32, key.wrapping_sub(1)),
+                    Event::new(
+                        (bs / 2) as u32,
+                        EventKind::NoteExpression {
+                            key,
+                            expression: NoteExpression::Pressure(rng.next() as f32),
+                        },
+                    ),
                 ];
                 for p in PARAMS.iter().filter(|p| !p.rebuild) {
                     let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;
@@ -228,8 +236,10 @@ fn process_never_allocates() {
 }
 
 /// Notes, re-strikes of sounding keys and mallet parameter automation with `exciter = mallet`
-/// throughout (the mallet launched, stepped, dropped) at 48 kHz and blocks of 1 to 512: no
-/// allocation, and the output within the limiter's ceiling (the limiter on).
+/// throughout (the mallet launched, stepped, dropped), the player's hand on the plate at a
+/// random pressure in two blocks of three (solved jointly with the mallet), at 48 kHz and
+/// blocks of 1 to 512: no allocation, and the output within the limiter's ceiling (the
+/// limiter on).
 #[test]
 fn mallet_blocks_never_allocate() {
     let params = Arc::new(SharedParams::new());
@@ -251,13 +261,24 @@ fn mallet_blocks_never_allocate() {
     for b in 0..600 {
         let bs = [1usize, 64, 512][b % 3];
         let key = 57 + (b % 6) as u8;
-        let events = [Event::new(
-            0,
-            EventKind::NoteOn {
-                key,
-                velocity: 0.2 + 0.8 * rng.next() as f32,
-            },
-        )];
+        // A hand on the struck plate in two blocks of three (the mallet solved with it).
+        let pressure = if b % 3 == 0 { 0.0 } else { rng.next() as f32 };
+        let events = [
+            Event::new(
+                0,
+                EventKind::NoteOn {
+                    key,
+                    velocity: 0.2 + 0.8 * rng.next() as f32,
+                },
+            ),
+            Event::new(
+                0,
+                EventKind::NoteExpression {
+                    key,
+                    expression: NoteExpression::Pressure(pressure),
+                },
+            ),
+        ];
         for id in mallet {
             let p = id.info();
             let x = p.min as f64 + rng.next() * (p.max - p.min) as f64;

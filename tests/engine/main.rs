@@ -10,6 +10,7 @@ mod always_playable;
 mod cascade;
 mod engine;
 mod engine_alloc;
+mod engine_hand;
 mod engine_mallet;
 mod engine_threads;
 mod extreme_levels;

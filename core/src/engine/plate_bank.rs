@@ -11,7 +11,9 @@
 use super::kinds::{Material, ModelKind};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
-use super::voice::{tier_ladder, Frame, PlateData, PlateVoice, Voice, VoiceModel, HEARD_FRACTION};
+use super::voice::{
+    hand_radius, tier_ladder, Frame, PlateData, PlateVoice, Voice, VoiceModel, HEARD_FRACTION,
+};
 use crate::error::ParamError;
 use crate::modal::TensorStorage;
 use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
@@ -94,6 +96,7 @@ fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
             pickup_radii: pickups.map(|(r, _)| r),
             orders,
             strike: basis.phi_all(&position(kind, strike_radius, 0.0)),
+            hand: basis.phi_all(&position(kind, hand_radius(strike_radius), 0.0)),
             pickups: pickups.map(|(r, _)| basis.phi_all(&position(kind, r, 0.0))),
             pickup_angles: pickups.map(|(_, a)| a),
         },

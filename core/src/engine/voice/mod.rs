@@ -39,8 +39,10 @@ use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
-pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
+pub(crate) use plate::{hand_radius, tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
+pub use plate::{HAND_MIN_RADIUS, HAND_T60};
 pub(crate) use string::StringVoice;
+pub use string::HAND_STRING_POSITION;
 
 use super::params::ParamId;
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
@@ -221,6 +223,7 @@ impl Voice {
         if !self.commit_strike() {
             return false;
         }
+        self.apply_pressure();
         match &mut self.model {
             VoiceModel::Plate(pv) => {
                 if !pv.run(left, right, gain) {
@@ -243,6 +246,16 @@ impl Voice {
             }
         }
         true
+    }
+
+    /// The note's hand pressure on its model (a point damper, see [`HAND_T60`]): O(1), no
+    /// allocation, audio thread.
+    fn apply_pressure(&mut self) {
+        let p = self.note_pressure as f64;
+        match &mut self.model {
+            VoiceModel::Plate(pv) => pv.set_pressure(p),
+            VoiceModel::String(sv) => sv.set_pressure(p),
+        }
     }
 
     /// What the voice simulates for its current note (see [`VoiceModelInfo`]). Audio thread,

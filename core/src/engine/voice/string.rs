@@ -5,8 +5,13 @@
 
 use super::mapping::{pitch_ratio, release_sigma, Physics};
 use crate::engine::params::ParamId;
+use crate::models::plate::hand_damping_for_t60;
 use crate::models::string::params::Stiffness;
 use crate::models::string::{StiffString, ValetteLosses};
+
+/// Where the player's hand rests on an engine string: this fraction of the length from the
+/// bridge end (`x = 0`), i.e. 0.1 L from the nut, away from the bridge.
+pub const HAND_STRING_POSITION: f64 = 0.9;
 
 /// A string voice's model and the root-key constants.
 pub(crate) struct StringVoice {
@@ -14,15 +19,48 @@ pub(crate) struct StringVoice {
     losses: ValetteLosses,
     /// Newton cap hits already counted into the engine's total.
     pub cap_hits_seen: u64,
+    /// The hand's damper coefficient at full pressure (N·s/m): the fundamental's 60 dB decay
+    /// in [`super::HAND_T60`] by `σ = c φ₁(x_h)² / 2μ` ([`hand_damping_for_t60`] with `μ` for
+    /// `ρh`); 0 if the hand point is refused (on the obstacle).
+    hand_c_max: f64,
+    /// The hand pressure applied to the model (0 to 1).
+    pressure: f64,
 }
 
 impl StringVoice {
-    /// Wraps a built model (worker thread).
-    pub fn new(model: StiffString, losses: ValetteLosses) -> Self {
+    /// Wraps a built model and puts the hand (lifted) at [`HAND_STRING_POSITION`] (worker
+    /// thread).
+    pub fn new(mut model: StiffString, losses: ValetteLosses) -> Self {
+        let p = model.params().clone();
+        let x = HAND_STRING_POSITION * p.length;
+        let hand_c_max = match model.set_hand(x, 0.0) {
+            Ok(()) => {
+                let phi = p.mode_shape(1, model.hand_position());
+                hand_damping_for_t60(p.linear_density, phi, super::HAND_T60)
+            }
+            Err(_) => 0.0,
+        };
         Self {
             model,
             losses,
             cap_hits_seen: 0,
+            hand_c_max: if hand_c_max.is_finite() {
+                hand_c_max
+            } else {
+                0.0
+            },
+            pressure: 0.0,
+        }
+    }
+
+    /// Sets the player's hand pressure (0 to 1, clamped; 0 lifts the hand): the hand's damper
+    /// coefficient becomes `pressure · c_max`. O(1), no allocation; audio thread.
+    pub fn set_pressure(&mut self, pressure: f64) {
+        let p = pressure.clamp(0.0, 1.0);
+        if p != self.pressure {
+            self.pressure = p;
+            // Finite and ≥ 0 by construction: cannot refuse.
+            let _ = self.model.set_hand_damping(p * self.hand_c_max);
         }
     }
 

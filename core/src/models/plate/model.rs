@@ -270,7 +270,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     }
 
     /// Advances one step `n → n + 1` under the external force `force` = `F(n)` (N) applied
-    /// through the force weights, then updates the pickups and the energy.
+    /// through the force weights and the player's hand (if any, [`Self::set_hand`]; solved in
+    /// closed form with the step), then updates the pickups and the energy.
     /// Audio thread: no allocation, bounded work.
     pub fn step(&mut self, force: f64) -> Result<(), Diverged> {
         if self.diverged {

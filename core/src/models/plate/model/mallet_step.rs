@@ -30,7 +30,9 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
 
     /// Advances one step `n → n + 1` with the force `F(n)` of `mallet`'s felt on the plate at
     /// the force point, solved jointly with the mallet's motion (energy conserving, see
-    /// [`crate::models::plate::mallet`]); a mallet not yet launched exerts no force. Pickups,
+    /// [`crate::models::plate::mallet`]), and with the player's hand (if any, see
+    /// [`Self::set_hand`]) eliminated from the scalar solve; a mallet not yet launched exerts
+    /// no force. Pickups,
     /// energy and divergence as [`Self::step`] (the plate's [`super::PlateEnergy::work`]
     /// counts the mallet's work). Audio thread: no allocation; the plate step plus `O(N_Φ)`
     /// (`O(N_Φ N_Ψ)` or `O(N_Φ²)` for the conservative schemes' extra back-substitution).
