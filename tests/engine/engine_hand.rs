@@ -79,11 +79,11 @@ fn amplitude(x: &[f64], f: f64, t: f64) -> f64 {
     let half = (0.02 * RATE) as usize;
     let c = (t * RATE) as usize;
     let (mut re, mut im, mut wsum) = (0.0, 0.0, 0.0);
-    for i in c - half..c + half {
-        let w = 0.5 - 0.5 * (TAU * (i + half - c) as f64 / (2 * half) as f64).cos();
-        let ph = TAU * f * i as f64 / RATE;
-        re += w * x[i] * ph.cos();
-        im += w * x[i] * ph.sin();
+    for (k, &v) in x[c - half..c + half].iter().enumerate() {
+        let w = 0.5 - 0.5 * (TAU * k as f64 / (2 * half) as f64).cos();
+        let ph = TAU * f * (c - half + k) as f64 / RATE;
+        re += w * v * ph.cos();
+        im += w * v * ph.sin();
         wsum += w;
     }
     2.0 * (re * re + im * im).sqrt() / wsum

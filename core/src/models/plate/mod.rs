@@ -91,6 +91,7 @@ pub mod basis;
 pub mod coupling;
 pub mod energy;
 pub mod excitation;
+pub mod hand;
 mod linalg;
 pub mod mallet;
 pub mod model;
@@ -105,6 +106,7 @@ pub use energy::PlateEnergy;
 pub use excitation::{
     damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
 };
+pub use hand::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};
-pub use model::{hand_damping_for_t60, Diverged, OutputSample, PlateModel};
+pub use model::{Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};

@@ -13,13 +13,12 @@ use std::sync::Arc;
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
+use super::hand::Hand;
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
 use crate::error::{check_finite, ParamError};
 use free_response::free_response_backward;
-pub use hand::hand_damping_for_t60;
-use hand::Hand;
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
 /// non-finite values can cause): the model outputs zeros until [`PlateModel::reset`] or
@@ -105,7 +104,7 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     solver: Option<SpdSolver>,
     /// Auxiliary state and scratch of the SAV scheme (`None` for the other schemes).
     sav: Option<SavStep>,
-    /// The player's hand (a point damper, [`hand`]); `c = 0` without one.
+    /// The player's hand (a point damper, [`super::hand`]); `c = 0` without one.
     hand: Hand,
     energy: PlateEnergy,
     track_energy: bool,

@@ -5,6 +5,7 @@ use super::contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 use super::contact_sav::ContactScheme;
 use super::exact::ModeCoefficients;
 use super::excitation::{StrikeForce, TrianglePluck};
+use super::hand::StringHand;
 use super::losses::Losses;
 use super::obstacle::Obstacle;
 use super::output::{FieldView, OutputChannel, ResolvedOutput};
@@ -160,8 +161,8 @@ pub struct StiffString {
     obstacle_force: f64,
     /// Steps since the last initial condition.
     steps: u64,
-    /// The player's hand (a point damper, [`hand`]); `c = 0` without one.
-    hand: hand::StringHand,
+    /// The player's hand (a point damper, [`super::hand`]); `c = 0` without one.
+    hand: StringHand,
 }
 
 impl StiffString {
@@ -230,7 +231,7 @@ impl StiffString {
             obstacle_force: 0.0,
             steps: 0,
             start_index: 0,
-            hand: hand::StringHand::new(m),
+            hand: StringHand::new(m),
         })
     }
 
