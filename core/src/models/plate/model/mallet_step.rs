@@ -32,9 +32,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// the force point, solved jointly with the mallet's motion (energy conserving, see
     /// [`crate::models::plate::mallet`]), and with the player's hand (if any, see
     /// [`Self::set_hand`]) eliminated from the scalar solve; a mallet not yet launched exerts
-    /// no force. Pickups,
-    /// energy and divergence as [`Self::step`] (the plate's [`super::PlateEnergy::work`]
-    /// counts the mallet's work). Audio thread: no allocation; the plate step plus `O(N_Φ)`
+    /// no force. Pickups, energy and divergence as [`Self::step`] (the plate's
+    /// [`super::PlateEnergy::work`] counts the mallet's work). Audio thread: no allocation; the plate step plus `O(N_Φ)`
     /// (`O(N_Φ N_Ψ)` or `O(N_Φ²)` for the conservative schemes' extra back-substitution).
     pub fn step_with_mallet(&mut self, mallet: &mut Mallet) -> Result<(), Diverged> {
         if !mallet.is_active() || self.diverged {
