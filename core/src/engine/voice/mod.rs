@@ -24,6 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+mod hand;
 mod mallet;
 mod mapping;
 pub mod modulation;
@@ -39,10 +40,10 @@ use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
-pub(crate) use plate::{hand_radius, tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
-pub use plate::{HAND_MIN_RADIUS, HAND_T60};
+pub(crate) use hand::hand_radius;
+pub use hand::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
+pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
 pub(crate) use string::StringVoice;
-pub use string::HAND_STRING_POSITION;
 
 use super::params::ParamId;
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};

@@ -24,6 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+use super::hand::hand_radius;
 use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::kinds::Material;
@@ -43,37 +44,6 @@ pub(crate) const MIN_TIER_PSI: usize = 4;
 /// kept stable by the exact scheme but their samples would alias (their weights are zeroed).
 pub(crate) const HEARD_FRACTION: f64 = 0.45;
 
-/// 60 dB decay time (s) of the note's fundamental under the player's hand at full pressure
-/// (per-note pressure 1): a firm mute, as a percussionist's palm stops a gong within a
-/// fraction of a second.
-pub const HAND_T60: f64 = 0.15;
-
-/// Smallest radius of the hand point (fraction of the radius, or of the half-diagonal of a
-/// rectangle): the hand rests opposite the strike across the centre, at the strike's radius
-/// but at least this far out (a centre strike would otherwise put the hand on the strike).
-pub const HAND_MIN_RADIUS: f64 = 0.5;
-
-/// The hand's radius for a strike at radius `strike_radius` (same units): opposite the strike,
-/// at `max(strike_radius, HAND_MIN_RADIUS)`.
-pub(crate) fn hand_radius(strike_radius: f64) -> f64 {
-    strike_radius.max(HAND_MIN_RADIUS)
-}
-
-/// The hand's damper coefficient at full pressure (N·s/m) for a note of surface density
-/// `rho_h` (kg/m²) with mode values `weights` = `Φ_s(x_h)` (1/m, lowest mode first) at the hand
-/// point: the coefficient under which the note's fundamental decays by 60 dB in [`HAND_T60`],
-/// `c_max = 2 ρh ln(1000) / (HAND_T60 Φ_0(x_h)²)` (`σ = c Φ²/2ρh`, see
-/// [`crate::models::plate::hand_damping_for_t60`]). If the hand point is (nearly) on a node of
-/// the fundamental (`|Φ_0| < 10⁻³ max_s |Φ_s|`) the lowest mode it is not on a node of takes
-/// its place; 0 (no hand) if every weight is 0. Any thread, O(N_Φ).
-pub(crate) fn hand_c_max(rho_h: f64, weights: &[f64]) -> f64 {
-    let top = weights.iter().fold(0.0f64, |m, w| m.max(w.abs()));
-    match weights.iter().find(|w| w.abs() >= 1e-3 * top) {
-        Some(&phi) if top > 0.0 => crate::models::plate::hand_damping_for_t60(rho_h, phi, HAND_T60),
-        _ => 0.0,
-    }
-}
-
 /// Where the strike and the pickups sit in the basis's frame.
 #[derive(Debug)]
 pub(crate) enum Frame {
@@ -89,7 +59,7 @@ pub(crate) enum Frame {
         orders: Vec<u32>,
         /// `Φ̂_s(r_strike, 0)` (unit plate).
         strike: Vec<f64>,
-        /// `Φ̂_s(r_hand, 0)` (unit plate, [`hand_radius`]); the hand sits at angle π of the frame.
+        /// `Φ̂_s(r_hand, 0)` (unit plate, [`super::hand::hand_radius`]); the hand sits at angle π of the frame.
         hand: Vec<f64>,
         /// `Φ̂_s(r_p, 0)` of the left and right pickups (unit plate).
         pickups: [Vec<f64>; 2],
@@ -174,10 +144,10 @@ pub(crate) struct PlateVoice {
     /// The note's own strike radius and pickup radii, where they differ from the bank's.
     own_strike: Option<f64>,
     own_pickups: [Option<f64>; 2],
-    /// `Φ̂_s` at the hand point in the voice's frame (unit plate, every mode; [`hand_radius`]).
+    /// `Φ̂_s` at the hand point in the voice's frame (unit plate, every mode; [`super::hand::hand_radius`]).
     hand_w: Vec<f64>,
     /// The hand's damper coefficient at full pressure for the current note (N·s/m,
-    /// [`hand_c_max`]; 0 before the first retune).
+    /// [`super::hand::hand_c_max`]; 0 before the first retune).
     hand_c_max: f64,
     /// The hand pressure applied to the model (0 to 1).
     pressure: f64,
@@ -481,46 +451,6 @@ impl PlateVoice {
         ok
     }
 
-    /// The hand of the tier in use: weights `Φ̂_s / a` at the hand point, zero above
-    /// [`HEARD_FRACTION`]` fs` as the strike's and the pickups' (the exact scheme aliases those
-    /// modes, and a damper coupling them to the heard ones would damp by aliased velocities),
-    /// `c_max` for the note ([`hand_c_max`]) and `c = pressure · c_max`. Audio thread,
-    /// O(N_Φ), no allocation.
-    fn write_hand(&mut self, a: f64, rho_h: f64) {
-        let (n, _) = self.data.tiers[self.tier];
-        let wmax = HEARD_FRACTION * TAU * self.fs;
-        let model = &mut self.models[self.tier];
-        let inv_a = 1.0 / a;
-        for ((w, &x), &om) in model
-            .hand_weights_mut()
-            .iter_mut()
-            .zip(&self.hand_w)
-            .zip(&self.omega)
-        {
-            *w = if om < wmax { x * inv_a } else { 0.0 };
-        }
-        self.hand_c_max = hand_c_max(rho_h, &model.hand_weights()[..n]);
-        self.apply_pressure();
-    }
-
-    /// Sets the player's hand pressure `pressure` (0 to 1, clamped; 0 lifts the hand): the
-    /// hand's damper coefficient becomes `pressure · c_max`. O(1) when unchanged or applied;
-    /// audio thread, no allocation.
-    pub fn set_pressure(&mut self, pressure: f64) {
-        let p = pressure.clamp(0.0, 1.0);
-        if p != self.pressure {
-            self.pressure = p;
-            self.apply_pressure();
-        }
-    }
-
-    /// `c = pressure · c_max` on the tier in use.
-    fn apply_pressure(&mut self) {
-        let c = self.pressure * self.hand_c_max;
-        // `c` is finite and ≥ 0 by construction (`hand_c_max` is), so this cannot refuse.
-        let _ = self.models[self.tier].set_hand_damping(c);
-    }
-
     /// Strike and pickup weights `Φ̂_s / a` of the tier in use, zero above
     /// [`HEARD_FRACTION`]` fs`.
     fn write_weights(&mut self, a: f64) {
@@ -619,6 +549,8 @@ impl PlateVoice {
         }
     }
 }
+
+mod hand;
 
 #[cfg(test)]
 mod tests {

@@ -3,15 +3,12 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+use super::hand::{HAND_STRING_POSITION, HAND_T60};
 use super::mapping::{pitch_ratio, release_sigma, Physics};
 use crate::engine::params::ParamId;
 use crate::models::plate::hand_damping_for_t60;
 use crate::models::string::params::Stiffness;
 use crate::models::string::{StiffString, ValetteLosses};
-
-/// Where the player's hand rests on an engine string: this fraction of the length from the
-/// bridge end (`x = 0`), i.e. 0.1 L from the nut, away from the bridge.
-pub const HAND_STRING_POSITION: f64 = 0.9;
 
 /// A string voice's model and the root-key constants.
 pub(crate) struct StringVoice {
@@ -20,7 +17,7 @@ pub(crate) struct StringVoice {
     /// Newton cap hits already counted into the engine's total.
     pub cap_hits_seen: u64,
     /// The hand's damper coefficient at full pressure (N·s/m): the fundamental's 60 dB decay
-    /// in [`super::HAND_T60`] by `σ = c φ₁(x_h)² / 2μ` ([`hand_damping_for_t60`] with `μ` for
+    /// in [`HAND_T60`] by `σ = c φ₁(x_h)² / 2μ` ([`hand_damping_for_t60`] with `μ` for
     /// `ρh`); 0 if the hand point is refused (on the obstacle).
     hand_c_max: f64,
     /// The hand pressure applied to the model (0 to 1).
@@ -36,7 +33,7 @@ impl StringVoice {
         let hand_c_max = match model.set_hand(x, 0.0) {
             Ok(()) => {
                 let phi = p.mode_shape(1, model.hand_position());
-                hand_damping_for_t60(p.linear_density, phi, super::HAND_T60)
+                hand_damping_for_t60(p.linear_density, phi, HAND_T60)
             }
             Err(_) => 0.0,
         };
