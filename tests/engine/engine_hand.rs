@@ -90,14 +90,17 @@ fn amplitude(x: &[f64], f: f64, t: f64) -> f64 {
 }
 
 /// The lowest spectral peak of `x` within 20 dB of the strongest (Hz, 1 Hz steps from 20 Hz
-/// to 2 kHz over the first 0.4 s): the note's fundamental.
+/// to 2 kHz over the first 0.4 s, Hann-windowed so no side lobe of a partial, -31 dB and
+/// below, passes for a peak): the note's fundamental.
 fn lowest_peak(x: &[f64]) -> f64 {
+    let n = (0.4 * RATE) as usize;
     let mag = |f: f64| {
         let (mut re, mut im) = (0.0, 0.0);
-        for (i, &v) in x[..(0.4 * RATE) as usize].iter().enumerate() {
+        for (i, &v) in x[..n].iter().enumerate() {
+            let w = 0.5 - 0.5 * (TAU * i as f64 / n as f64).cos();
             let ph = TAU * f * i as f64 / RATE;
-            re += v * ph.cos();
-            im += v * ph.sin();
+            re += w * v * ph.cos();
+            im += w * v * ph.sin();
         }
         (re * re + im * im).sqrt()
     };
