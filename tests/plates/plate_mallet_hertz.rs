@@ -2,43 +2,10 @@
 //! strikes per second, and a stress sweep over mass, felt stiffness, exponent and speed
 //! (`core/src/models/plate/mallet.rs`). Figures are printed with `--nocapture`.
 
+use noether::models::plate::mallet_heads::{hertz_duration, hertz_integral};
 use noether::models::plate::{Mallet, PlateScheme};
 
 use super::plate_mallet::{plate, sounding};
-
-/// `∫₀¹ (1 - x^p)^{-1/2} dx = B(1/p, 1/2)/p`, by the substitution `x = 1 - t²`, which makes the
-/// integrand `2t / √(1 - (1 - t²)^p)` smooth (even in `t`, `2/√p` at 0), and composite Simpson
-/// on 4000 intervals (error ~1e-13; checked against `π/2` at `p = 2`).
-fn hertz_integral(p: f64) -> f64 {
-    let f = |t: f64| {
-        if t == 0.0 {
-            2.0 / p.sqrt()
-        } else {
-            2.0 * t / (-(p * (-t * t).ln_1p()).exp_m1()).sqrt()
-        }
-    };
-    let n = 4000;
-    let h = 1.0 / n as f64;
-    let mut s = f(0.0) + f(1.0);
-    for i in 1..n {
-        s += if i % 2 == 1 { 4.0 } else { 2.0 } * f(i as f64 * h);
-    }
-    s * h / 3.0
-}
-
-/// Hertz's contact duration `t_c = 2 (δ_max/v) ∫₀¹ dx/√(1 - x^{α+1})`,
-/// `δ_max = ((α+1) M v²/(2K))^{1/(α+1)}` (Johnson, *Contact Mechanics*, 1985, section 11.4;
-/// Chaigne & Doutaut 1997, eq. (7)) for a mass `M` at speed `v` on a rigid target.
-fn hertz_duration(mass: f64, k: f64, alpha: f64, v: f64) -> f64 {
-    let delta_max = ((alpha + 1.0) * mass * v * v / (2.0 * k)).powf(1.0 / (alpha + 1.0));
-    2.0 * delta_max / v * hertz_integral(alpha + 1.0)
-}
-
-#[test]
-fn hertz_integral_matches_the_harmonic_case() {
-    // p = 2: ∫ dx/√(1-x²) = π/2 (then t_c = π √(M/K), half a period of the linear spring).
-    assert!((hertz_integral(2.0) - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
-}
 
 /// Contact duration on a (nearly) rigid target: a plate with `ρh = 1e9 kg/m²` (its step
 /// compliance is ~1e-9 of the mallet's), measured from the linearly interpolated zero crossings

@@ -94,6 +94,7 @@ pub mod excitation;
 pub mod hand;
 mod linalg;
 pub mod mallet;
+pub mod mallet_heads;
 pub mod model;
 pub mod params;
 mod sav;
@@ -108,5 +109,6 @@ pub use excitation::{
 };
 pub use hand::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};
+pub use mallet_heads::{HeadLaw, MalletHead};
 pub use model::{Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};

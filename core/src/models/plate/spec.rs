@@ -1,6 +1,7 @@
 //! The `[plate]` table of a scene: geometry, material, modes, scheme, losses, excitation,
 //! pickups.
 
+use super::mallet_heads::{HeadLaw, MalletHead};
 use crate::error::{check_closed, ParamError};
 use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
@@ -191,20 +192,30 @@ pub enum Excitation {
     },
     /// A physical mallet (a lumped mass with a power-law felt, [`super::Mallet`]) launched
     /// against the plate at a point at t = 0; it may rebound and strike again by itself.
+    /// `head` names a factory mallet ([`super::mallet_heads`]: `soft-felt`, `hard-felt`,
+    /// `rubber`, `wood`, `metal`) whose mass and contact law fill the fields not given;
+    /// without it `mass`, `stiffness` and `exponent` are required ([`Excitation::mallet_law`]).
     Mallet {
         /// Where.
         at: Position,
+        /// A factory head (optional).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        head: Option<MalletHead>,
         /// Mallet mass M in kg (1e-4 to 10).
-        mass: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mass: Option<f64>,
         /// Felt stiffness K in N/m^α (1 to 1e13).
-        stiffness: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        stiffness: Option<f64>,
         /// Felt exponent α (1 to 4).
-        exponent: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        exponent: Option<f64>,
         /// Launch speed in m/s (1e-3 to 50).
         speed: f64,
-        /// Felt (Hunt-Crossley) loss λ in s/m (0 to 10, default 0: lossless felt).
-        #[serde(default)]
-        loss: f64,
+        /// Felt (Hunt-Crossley) loss λ in s/m (0 to 10; default the head's, else 0: a
+        /// lossless felt).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        loss: Option<f64>,
     },
     /// Initial modal state: transverse mode `mode` (1-based, in frequency order) starts with
     /// displacement `displacement` and velocity `velocity` (modal coordinates: with normalised
@@ -218,6 +229,46 @@ pub enum Excitation {
         #[serde(default)]
         velocity: f64,
     },
+}
+
+impl Excitation {
+    /// A mallet excitation's mass and contact law: the fields given, the rest from its
+    /// `head`. Errors name the field: a field missing without a head;
+    /// `plate.excitation.kind` for an excitation that is not a mallet. (A head not in the
+    /// factory list is refused when the scene is read, with the names allowed.)
+    pub fn mallet_law(&self) -> Result<HeadLaw, ParamError> {
+        let Excitation::Mallet {
+            head,
+            mass,
+            stiffness,
+            exponent,
+            loss,
+            ..
+        } = self
+        else {
+            return Err(ParamError::new(
+                "plate.excitation.kind",
+                "not mallet",
+                "mallet",
+            ));
+        };
+        let base = head.map(MalletHead::law);
+        let pick = |field: &str, given: Option<f64>, from: fn(&HeadLaw) -> f64| {
+            given.or(base.as_ref().map(from)).ok_or_else(|| {
+                ParamError::new(
+                    format!("plate.excitation.{field}"),
+                    "missing",
+                    "a number, or a `head` to take it from",
+                )
+            })
+        };
+        Ok(HeadLaw {
+            mass: pick("mass", *mass, |l| l.mass)?,
+            stiffness: pick("stiffness", *stiffness, |l| l.stiffness)?,
+            exponent: pick("exponent", *exponent, |l| l.exponent)?,
+            loss: loss.or(base.map(|l| l.loss)).unwrap_or(0.0),
+        })
+    }
 }
 
 /// What a pickup measures.
@@ -361,20 +412,14 @@ impl PlateSpec {
                 at.validate(self.shape, "plate.excitation.at")?;
                 check_closed("plate.excitation.impulse", impulse, 0.0, 1e3)?;
             }
-            Excitation::Mallet {
-                at,
-                mass,
-                stiffness,
-                exponent,
-                speed,
-                loss,
-            } => {
+            Excitation::Mallet { at, speed, .. } => {
                 at.validate(self.shape, "plate.excitation.at")?;
-                check_closed("plate.excitation.mass", mass, 1e-4, 10.0)?;
-                check_closed("plate.excitation.stiffness", stiffness, 1.0, 1e13)?;
-                check_closed("plate.excitation.exponent", exponent, 1.0, 4.0)?;
+                let law = self.excitation.mallet_law()?;
+                check_closed("plate.excitation.mass", law.mass, 1e-4, 10.0)?;
+                check_closed("plate.excitation.stiffness", law.stiffness, 1.0, 1e13)?;
+                check_closed("plate.excitation.exponent", law.exponent, 1.0, 4.0)?;
                 check_closed("plate.excitation.speed", speed, 1e-3, 50.0)?;
-                check_closed("plate.excitation.loss", loss, 0.0, 10.0)?;
+                check_closed("plate.excitation.loss", law.loss, 0.0, 10.0)?;
             }
             Excitation::Initial {
                 mode,

@@ -126,24 +126,21 @@ impl PlateVoice {
                 ForceSignal::Strike(RaisedCosine::new(duration, peak_force)?),
             ),
             Excitation::Impulse { at, .. } => (at, ForceSignal::None),
-            Excitation::Mallet {
-                at,
-                mass,
-                stiffness,
-                exponent,
-                loss,
-                ..
-            } => (
-                at,
-                ForceSignal::Mallet(
-                    Mallet::new(mass, stiffness, exponent, loss, 1.0 / scene.sim_rate).map_err(
-                        |e| ParamError {
-                            field: format!("plate.excitation.{}", e.field),
-                            ..e
-                        },
-                    )?,
-                ),
-            ),
+            Excitation::Mallet { at, .. } => {
+                let law = scene.excitation.mallet_law()?;
+                let m = Mallet::new(
+                    law.mass,
+                    law.stiffness,
+                    law.exponent,
+                    law.loss,
+                    1.0 / scene.sim_rate,
+                )
+                .map_err(|e| ParamError {
+                    field: format!("plate.excitation.{}", e.field),
+                    ..e
+                })?;
+                (at, ForceSignal::Mallet(m))
+            }
             // No force: the strike weights are unused (the centre is a valid placeholder).
             Excitation::Initial { .. } => (
                 Position {
