@@ -11,6 +11,8 @@
 //!   tensor assembly, the on-disk cache): [`PlateModes`], [`CircularPlateSpec`];
 //! - [`rect`]: the simply supported rectangle (closed-form Φ, Rayleigh-Ritz Ψ, its tensor):
 //!   [`rect::RectModes`], [`rect::RectSpec`];
+//! - [`shell`]: linear modes of a shallow spherical shell (a curved free plate) by projection of
+//!   its rest shape on the flat basis ([`shell::Imperfection`], [`shell::shell_modes`]);
 //! - [`tensor`]: the geometry-independent sparse tensor [`CouplingTensor`] and its
 //!   allocation-free kernels (dense selection-rule blocks with SIMD kernels, the run layout
 //!   kept as the reference);
@@ -29,6 +31,7 @@ pub mod circular;
 pub mod error;
 pub mod quadrature;
 pub mod rect;
+pub mod shell;
 pub mod tensor;
 
 pub use basis::{Coordinates, ModalBasis, UnitPoint};
