@@ -22,6 +22,9 @@ pub enum Error {
     /// A scene file could not be read, parsed or validated.
     #[error(transparent)]
     Scene(#[from] SceneError),
+    /// A modal computation failed (a basis or an eigenproblem).
+    #[error(transparent)]
+    Modal(#[from] noether_core::modal::ModalError),
     /// A folder could not be created.
     #[error("creating {}: {source}", path.display())]
     CreateDir {

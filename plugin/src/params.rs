@@ -313,7 +313,8 @@ pub fn group_of(id: ParamId) -> &'static str {
         }
         DampingScale | DampingA | DampingB | DampingC0 | ReleaseT60 => "Damping and release",
         StrikeRadius | StrikeAngle | StrikeDuration | StrikeForce | VelocityCurve
-        | PluckPosition | PluckAmplitude => "Excitation",
+        | PluckPosition | PluckAmplitude | Exciter | MalletHead | MalletMass | MalletHardness
+        | MalletSpeed => "Excitation",
         PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
         Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
         | ContactStiffness | ContactAlpha => "String and bridge",

@@ -1,9 +1,13 @@
 //! `noether modes`: list a plate's transverse modes with labels, dimensionless eigenvalues and
-//! frequencies for a given material and size.
+//! frequencies for a given material and size; with `--rise` or `--curvature-radius`, those of a
+//! shallow spherical shell (a curved free plate, `noether_core::modal::shell`).
 
 use clap::{Args, ValueEnum};
 use noether::modal::rect::transverse_modes;
-use noether::modal::{circular_modes, omega_scale, CircularEdge, Parity};
+use noether::modal::shell::{shell_modes, CapCoupling, Imperfection};
+use noether::modal::{
+    circular_modes, omega_scale, CircularEdge, CircularPlateSpec, Parity, PlateModes,
+};
 use noether::{Error, ParamError};
 use serde::Serialize;
 
@@ -49,6 +53,18 @@ pub struct ModesArgs {
     /// Density in kg/m^3.
     #[arg(long, default_value_t = 7860.0)]
     pub density: f64,
+    /// Circular free plate curved into a spherical cap of this rise in m (a shallow shell;
+    /// 0 to 500 thicknesses).
+    #[arg(long, conflicts_with = "curvature_radius")]
+    pub rise: Option<f64>,
+    /// Circular free plate curved into a spherical cap of this curvature radius in m.
+    #[arg(long = "curvature-radius")]
+    pub curvature_radius: Option<f64>,
+    /// Shell: transverse modes of the flat basis the rest shape is projected on (in-plane
+    /// modes: half as many; 40 to 2000). More is more accurate and slower (docs/models.md,
+    /// "Curved plates: linear modes").
+    #[arg(long = "shell-basis", default_value_t = 320)]
+    pub shell_basis: usize,
     /// Print JSON (one array of objects) instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -72,8 +88,28 @@ pub fn run(a: ModesArgs) -> Result<(), Error> {
     if !(0.0..=0.5).contains(&a.nu) {
         return Err(ParamError::new("--nu", a.nu, "[0, 0.5]").into());
     }
-    let rows: Vec<Row> = match a.plate {
-        PlateArg::CircularFree | PlateArg::CircularClamped => {
+    let shell = match (a.rise, a.curvature_radius) {
+        (Some(rise), _) => Some(
+            Imperfection::from_rise(rise, a.radius, a.thickness)
+                .map_err(|e| rename(e, "--rise"))?,
+        ),
+        (_, Some(r)) => Some(
+            Imperfection::from_curvature_radius(r, a.radius, a.thickness)
+                .map_err(|e| rename(e, "--curvature-radius"))?,
+        ),
+        _ => None,
+    };
+    let rows: Vec<Row> = match (a.plate, shell) {
+        (PlateArg::CircularFree, Some(shell)) => shell_rows(&a, &shell)?,
+        (_, Some(_)) => {
+            return Err(ParamError::new(
+                "--plate",
+                format!("{:?}", a.plate),
+                "circular-free with --rise or --curvature-radius",
+            )
+            .into())
+        }
+        (PlateArg::CircularFree | PlateArg::CircularClamped, None) => {
             let edge = if matches!(a.plate, PlateArg::CircularFree) {
                 CircularEdge::Free
             } else {
@@ -98,7 +134,7 @@ pub fn run(a: ModesArgs) -> Result<(), Error> {
                 })
                 .collect()
         }
-        PlateArg::RectSs => {
+        (PlateArg::RectSs, None) => {
             if !(a.aspect.is_finite() && (0.05..=20.0).contains(&a.aspect)) {
                 return Err(ParamError::new("--aspect", a.aspect, "[0.05, 20]").into());
             }
@@ -121,6 +157,16 @@ pub fn run(a: ModesArgs) -> Result<(), Error> {
     if a.json {
         println!("{}", serde_json::to_string(&rows)?);
     } else {
+        if let Some(shell) = shell {
+            println!(
+                "shallow spherical shell: kappa = a^2/(R h) = {:.6}, rise {:.6e} m; \
+                 basis {} x {} (cosine modes; every n >= 1 mode has a sine twin at the same frequency)",
+                shell.kappa(),
+                0.5 * shell.kappa() * a.thickness,
+                a.shell_basis,
+                a.shell_basis / 2
+            );
+        }
         println!(
             "{:?} plate, nu = {}, size {} m, h = {} m, E = {} Pa, rho = {} kg/m^3",
             a.plate,
@@ -146,4 +192,52 @@ pub fn run(a: ModesArgs) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// `e` with its field renamed to the command-line flag `flag` (the user typed the flag).
+fn rename(e: ParamError, flag: &str) -> ParamError {
+    ParamError {
+        field: flag.to_string(),
+        ..e
+    }
+}
+
+/// The lowest `a.count` modes of the shell `shell` over a free circular plate of `a`'s
+/// material and size: the strike-mirror (cosine) basis of `a.shell_basis` transverse and half
+/// as many in-plane modes, the rest shape projected on it (`shell_modes`).
+fn shell_rows(a: &ModesArgs, shell: &Imperfection) -> Result<Vec<Row>, Error> {
+    if !(40..=2000).contains(&a.shell_basis) {
+        return Err(ParamError::new("--shell-basis", a.shell_basis, "40 to 2000").into());
+    }
+    if a.count > a.shell_basis / 2 {
+        return Err(ParamError::new(
+            "--count",
+            a.count,
+            format!("at most half of --shell-basis ({})", a.shell_basis / 2),
+        )
+        .into());
+    }
+    let spec = CircularPlateSpec::new(
+        CircularEdge::Free,
+        a.nu,
+        a.shell_basis,
+        a.shell_basis / 2,
+        None,
+    )?
+    .mirror_symmetric();
+    let modes = PlateModes::build(&spec)?;
+    let scale = omega_scale(a.radius, a.thickness, a.youngs_modulus, a.density, a.nu)?;
+    let mut list = shell_modes(&modes, shell, CapCoupling::ModalProjection)?;
+    list.sort_by(|x, y| x.lambda2.total_cmp(&y.lambda2));
+    Ok(list
+        .iter()
+        .take(a.count)
+        .enumerate()
+        .map(|(i, m)| Row {
+            index: i + 1,
+            label: format!("({},{}) cos", m.n, m.k),
+            lambda2: m.lambda2,
+            frequency_hz: m.lambda2 * scale / std::f64::consts::TAU,
+        })
+        .collect())
 }

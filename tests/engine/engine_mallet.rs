@@ -229,6 +229,40 @@ fn the_mallet_strikes_again_when_the_plate_catches_it() {
     assert_eq!(n, 1, "{at:?}");
 }
 
+/// The factory heads (`mallet_head`) on gong-40N at velocity 127: each plays (finite, within
+/// the ceiling, not silent), and the hard heads (wood, metal) sound brighter in the first
+/// 0.2 s than the soft ones (felts, rubber). Turning the head back to `custom` restores the
+/// mass and hardness parameters' sound exactly.
+#[test]
+fn factory_heads_play_and_order_their_brightness() {
+    let mut soft: f64 = 0.0;
+    let mut hard = f64::INFINITY;
+    for (i, name) in noether::engine::MALLET_HEAD_NAMES
+        .iter()
+        .enumerate()
+        .skip(1)
+    {
+        let (c, p) = measure(
+            127,
+            &[(ParamId::Exciter, 1.0), (ParamId::MalletHead, i as f32)],
+        );
+        println!("{name}: centroid {c:.0} Hz, peak {p:.3}");
+        assert!(c.is_finite() && p > 1e-3 && p <= CEILING, "{name}: {c} {p}");
+        if *name == "wood" || *name == "metal" {
+            hard = hard.min(c);
+        } else {
+            soft = soft.max(c);
+        }
+    }
+    assert!(hard > soft, "hard heads {hard} Hz, soft {soft} Hz");
+    let custom = render(
+        127,
+        0.1,
+        &[(ParamId::Exciter, 1.0), (ParamId::MalletHead, 0.0)],
+    );
+    assert_eq!(custom, render(127, 0.1, &[(ParamId::Exciter, 1.0)]));
+}
+
 /// Out-of-range mallet values are refused with the parameter's key, the value and the range;
 /// the value is left unchanged.
 #[test]

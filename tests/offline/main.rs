@@ -6,6 +6,7 @@
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod auto;
+mod cli_modes;
 mod cli_output;
 mod play;
 mod preset_accuracy;

@@ -133,8 +133,8 @@ pub use kinds::{Material, ModelKind};
 pub use mix::SILENCE_RATIO;
 pub use output::{OutputStage, CEILING, LOOKAHEAD};
 pub use params::{
-    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, EXCITER_NAMES, MATERIAL_NAMES,
-    MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
+    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, EXCITER_NAMES, MALLET_HEAD_NAMES,
+    MATERIAL_NAMES, MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;

@@ -75,6 +75,17 @@ pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
 /// Names of [`ParamId::Exciter`] values: the prescribed force pulse or the physical mallet.
 pub const EXCITER_NAMES: &[&str] = &["pulse", "mallet"];
 
+/// Names of [`ParamId::MalletHead`] values: the mass, hardness and fixed felt loss of the
+/// other mallet parameters, or a factory head ([`crate::models::plate::MalletHead`]).
+pub const MALLET_HEAD_NAMES: &[&str] = &[
+    "custom",
+    "soft-felt",
+    "hard-felt",
+    "rubber",
+    "wood",
+    "metal",
+];
+
 /// Names of [`ParamId::Material`] values (see [`Material`](super::Material)).
 pub const MATERIAL_NAMES: &[&str] = &["steel", "bronze", "brass", "aluminium", "custom"];
 
@@ -231,6 +242,8 @@ params! {
         "Plates, exciter 'mallet': 0 soft felt (K = 1e6 N/m^alpha, alpha = 2.5) to 1 hard (K = 1e9, alpha = 1.5, Hertz), log K and alpha linear in between.";
     MalletSpeed, "mallet_speed", "Mallet speed", "m/s", 0.1, 10.0, 2.0, LOG, false,
         "Plates, exciter 'mallet': impact speed at velocity 1; speed = value times velocity^curve (and the mod wheel as for the force).";
+    MalletHead, "mallet_head", "Mallet head", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MALLET_HEAD_NAMES }, false,
+        "Plates, exciter 'mallet': 'custom' uses the mass and hardness above; a factory head (soft felt, hard felt, rubber, wood, metal) brings its own mass, contact law and felt loss (docs/models.md, factory mallets).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

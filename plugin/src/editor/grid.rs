@@ -58,6 +58,7 @@ const SECTIONS: [Section; 7] = {
                 Exciter,
                 StrikeDuration,
                 StrikeForce,
+                MalletHead,
                 MalletMass,
                 MalletHardness,
                 MalletSpeed,
@@ -129,7 +130,7 @@ const SECTIONS: [Section; 7] = {
 
 /// Whether the model with index `model` (see `MODEL_NAMES`) reads parameter `id`, with
 /// `material` the material index (the custom material's constants only matter for it).
-pub fn relevant(id: ParamId, model: usize, material: usize) -> bool {
+pub fn relevant(id: ParamId, model: usize, material: usize, head: usize) -> bool {
     use ParamId::*;
     let plate = model <= 2;
     let string = !plate;
@@ -137,7 +138,9 @@ pub fn relevant(id: ParamId, model: usize, material: usize) -> bool {
         YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
         Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
         | StrikeDuration | StrikeForce | PickupLeftAngle | PickupRightAngle | InPlaneModes
-        | Scheme | BandLimit | Exciter | MalletMass | MalletHardness | MalletSpeed => plate,
+        | Scheme | BandLimit | Exciter | MalletHead | MalletSpeed => plate,
+        // A factory head brings its own mass and law.
+        MalletMass | MalletHardness => plate && head == 0,
         Aspect => model == 2,
         Tension | LinearDensity | Inharmonicity | BridgePosition | ContactStiffness
         | ContactAlpha | PluckPosition | PluckAmplitude => string,
@@ -282,6 +285,7 @@ fn enum_menu(ui: &mut Ui, setter: &ParamSetter, p: &IntParam, names: &[&str], ke
 pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter) {
     let model = params.slot(ParamId::Model).value() as usize;
     let material = params.slot(ParamId::Material).value() as usize;
+    let head = params.slot(ParamId::MalletHead).value() as usize;
     // One slider width for every row: what the panel leaves after the label and value
     // columns (and the collapsing header's indent).
     let indent = ui.spacing().indent;
@@ -300,7 +304,7 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
             .params
             .iter()
             .copied()
-            .filter(|&id| relevant(id, model, material))
+            .filter(|&id| relevant(id, model, material, head))
             .collect();
         if rows.is_empty() {
             continue;
@@ -406,17 +410,23 @@ mod tests {
     #[test]
     fn only_the_models_sections() {
         // A gong (model 0, steel) shows no bridge, pluck or custom material constants.
-        assert!(!relevant(ParamId::ContactStiffness, 0, 0));
-        assert!(!relevant(ParamId::PluckPosition, 0, 0));
-        assert!(!relevant(ParamId::YoungsModulus, 0, 0));
+        assert!(!relevant(ParamId::ContactStiffness, 0, 0, 0));
+        assert!(!relevant(ParamId::PluckPosition, 0, 0, 0));
+        assert!(!relevant(ParamId::YoungsModulus, 0, 0, 0));
         assert!(relevant(
             ParamId::YoungsModulus,
             0,
-            MATERIAL_NAMES.len() - 1
+            MATERIAL_NAMES.len() - 1,
+            0
         ));
         // A sitar (model 3) shows its bridge and no mallet.
-        assert!(relevant(ParamId::BridgeCurvature, 3, 0));
-        assert!(!relevant(ParamId::StrikeDuration, 3, 0));
+        assert!(relevant(ParamId::BridgeCurvature, 3, 0, 0));
+        assert!(!relevant(ParamId::StrikeDuration, 3, 0, 0));
+        assert!(!relevant(ParamId::MalletHead, 3, 0, 0));
+        // A factory head hides the custom mallet's mass and hardness.
+        assert!(relevant(ParamId::MalletMass, 0, 0, 0));
+        assert!(!relevant(ParamId::MalletMass, 0, 0, 4));
+        assert!(!relevant(ParamId::MalletHardness, 0, 0, 4));
         // Every parameter sits in some section.
         for info in noether_core::engine::PARAMS {
             assert!(

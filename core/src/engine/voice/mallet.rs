@@ -10,6 +10,10 @@
 //! solids (a hard rubber or wooden head). For the default 0.2 kg mallet at 2 m/s against a
 //! rigid target the ends give contacts of about 30 ms (soft) and 0.35 ms (hard).
 //!
+//! **Factory heads.** With `mallet_head` other than `custom`, the mallet is that head
+//! ([`crate::models::plate::MalletHead`]: its mass, contact law and felt loss); the mass and
+//! hardness parameters, and a note's own hardness and brightness, apply to `custom` only.
+//!
 //! **When the mallet runs.** A strike launches it just short of the (possibly moving) plate
 //! ([`crate::models::plate::PlateModel::launch_mallet`]: nothing is reset) and the voice steps
 //! with [`crate::models::plate::PlateModel::step_with_mallet`]: it rebounds, and strikes again
@@ -33,7 +37,7 @@
 use crate::engine::params::{ParamId, ParamValues};
 use crate::error::ParamError;
 use crate::modal::CouplingTensor;
-use crate::models::plate::{Diverged, Mallet, PlateModel};
+use crate::models::plate::{Diverged, Mallet, MalletHead, PlateModel};
 
 /// Felt stiffness `K` (N/m^α) at hardness 0 (soft felt).
 pub const MALLET_K_SOFT: f64 = 1e6;
@@ -93,7 +97,8 @@ impl VoiceMallet {
         std::mem::take(&mut self.impacts)
     }
 
-    /// Builds a mallet from `v` (mass, hardness) for `model`'s time step and launches it at
+    /// Builds a mallet from `v` (mass and hardness, or the factory head of `mallet_head`) for
+    /// `model`'s time step and launches it at
     /// `speed` (m/s, > 0) at `model`'s force point, whose reach coefficient is `reach`
     /// (`2 Σ_s Φ_s²/ω̃_s² / ρh`, m²/J, module doc). No allocation. Errors name the field.
     pub fn launch(
@@ -103,9 +108,17 @@ impl VoiceMallet {
         speed: f64,
         reach: f64,
     ) -> Result<(), ParamError> {
-        let (k, alpha) = mallet_law(v.get(ParamId::MalletHardness) as f64);
-        let mass = v.get(ParamId::MalletMass) as f64;
-        let mut m = Mallet::new(mass, k, alpha, MALLET_LOSS, model.h())?;
+        let (mass, k, alpha, loss) = match v.index_of(ParamId::MalletHead) {
+            0 => {
+                let (k, alpha) = mallet_law(v.get(ParamId::MalletHardness) as f64);
+                (v.get(ParamId::MalletMass) as f64, k, alpha, MALLET_LOSS)
+            }
+            i => {
+                let l = MalletHead::ALL[(i - 1).min(MalletHead::ALL.len() - 1)].law();
+                (l.mass, l.stiffness, l.exponent, l.loss)
+            }
+        };
+        let mut m = Mallet::new(mass, k, alpha, loss, model.h())?;
         model.launch_mallet(&mut m, speed)?;
         self.mallet = Some(m);
         self.steps = 0;
