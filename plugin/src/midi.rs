@@ -28,7 +28,9 @@
 //!   before a note-on apply to that note right after it (a note's strike is committed at its
 //!   first step, so its brightness shapes it).
 //!
-//! Parsed but not used (no event is sent): CLAP pan, vibrato and expression. Other events are
+//! - CLAP pan for a key → [`NoteExpression::Pan`] (0 left, 0.5 centre, 1 right).
+//!
+//! Parsed but not used (no event is sent): CLAP vibrato and expression. Other events are
 //! ignored.
 
 use nice_plug::midi::Key;
@@ -202,6 +204,12 @@ impl MidiMap {
                 Some(k) => k,
                 None => return,
             },
+            NoteEvent::PolyPan { key, pan, .. } => {
+                match note_expr(&key, NoteExpression::Pan(pan)) {
+                    Some(k) => k,
+                    None => return,
+                }
+            }
             NoteEvent::MidiChannelPressure {
                 pressure, channel, ..
             } => {
@@ -242,7 +250,7 @@ impl MidiMap {
                 }
                 _ => return,
             },
-            // CLAP pan, vibrato and expression: parsed by nice-plug, not used.
+            // CLAP vibrato and expression: parsed by nice-plug, not used.
             _ => return,
         };
         push(out, Event::new(at, kind));

@@ -196,7 +196,7 @@ fn clap_note_expressions() {
         key,
         pan: 0.5,
     };
-    assert!(one(&mut m, pan).is_empty(), "pan is not used");
+    assert_eq!(one(&mut m, pan), expr(NoteExpression::Pan(0.5)));
 }
 
 /// Channel pressure and CC 74 act on the keys held on their channel (MPE's pressure and

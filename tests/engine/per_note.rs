@@ -214,3 +214,37 @@ fn sounding_keys_follow_note_ends_steals_and_panic() {
     e.process_events(&[Event::new(0, EventKind::AllSoundOff)], &mut l, &mut r);
     assert_eq!(e.sounding_keys(), 0);
 }
+
+/// Pan: 0.5 plays as no expression (bit for bit), 0 leaves the note in the left channel alone,
+/// 1 in the right alone, 0.25 keeps the left and halves the right.
+#[test]
+fn pan_places_the_note() {
+    let pan = |p: f32| EventKind::NoteExpression {
+        key: KEYS.0,
+        expression: NoteExpression::Pan(p),
+    };
+    let split = |x: &[f32]| {
+        let (mut l, mut r) = (Vec::new(), Vec::new());
+        for (b, block) in x.chunks(BLOCK).enumerate() {
+            if b % 2 == 0 {
+                l.extend_from_slice(block)
+            } else {
+                r.extend_from_slice(block)
+            }
+        }
+        (l, r)
+    };
+    let neutral = single("sitar", &[], &[]);
+    assert_eq!(single("sitar", &[], &[pan(0.5)]), neutral);
+    let (l0, r0) = split(&neutral);
+    let (l, r) = split(&single("sitar", &[], &[pan(0.0)]));
+    assert_eq!(l, l0);
+    assert!(r.iter().all(|&x| x == 0.0) && peak(&r0) > 0.0);
+    let (l, r) = split(&single("sitar", &[], &[pan(1.0)]));
+    assert!(l.iter().all(|&x| x == 0.0));
+    assert_eq!(r, r0);
+    let (l, r) = split(&single("sitar", &[], &[pan(0.25)]));
+    assert_eq!(l, l0);
+    let half: Vec<f32> = r0.iter().map(|x| 0.5 * x).collect();
+    assert!(rel_diff(&half, &r) < 1e-6, "{}", rel_diff(&half, &r));
+}

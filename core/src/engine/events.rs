@@ -71,6 +71,10 @@ pub enum NoteExpression {
     /// a harder mallet or a shorter pulse, a pluck nearer the string's end (CLAP brightness,
     /// MPE's CC 74).
     Brightness(f32),
+    /// Stereo position of this note, 0 (left) to 1 (right), clamped; 0.5 is neutral (both
+    /// pickups at their level). A balance: towards one side the other pickup's gain falls
+    /// linearly to 0, `g_left = min(1, 2(1 - p))`, `g_right = min(1, 2p)` (CLAP pan).
+    Pan(f32),
 }
 
 /// An event at a sample offset inside the block given to

@@ -134,12 +134,14 @@ pub(crate) fn run_bank(
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 let v = unsafe { &mut *base.add(i) };
                 if ok {
-                    // The note's key-tracked level and volume expression, outside the
+                    // The note's key-tracked level, volume and pan expressions, outside the
                     // voice's ceiling check (which bounds the physics, not the mix).
                     let g = (v.level * f64::from(v.note_volume)) as f32;
+                    let p = v.note_pan;
+                    let (gl, gr) = (g * (2.0 * (1.0 - p)).min(1.0), g * (2.0 * p).min(1.0));
                     for k in 0..m {
-                        sl[k] += g * vl[k];
-                        sr[k] += g * vr[k];
+                        sl[k] += gl * vl[k];
+                        sr[k] += gr * vr[k];
                     }
                 }
                 settle(v, ok, t);

@@ -191,6 +191,7 @@ impl Engine {
             NoteExpression::Brightness(x) if x.is_finite() => {
                 v.note_brightness = x.clamp(0.0, 1.0);
             }
+            NoteExpression::Pan(x) if x.is_finite() => v.note_pan = x.clamp(0.0, 1.0),
             _ => {}
         }
     }

@@ -102,7 +102,7 @@ pub struct StormCounts {
     pub controllers: u64,
     /// All-notes-off and all-sound-off events.
     pub panics: u64,
-    /// Per-note expressions (tuning, volume, pressure, brightness) and per-note parameter
+    /// Per-note expressions (tuning, volume, pressure, pan, brightness) and per-note parameter
     /// values (polyphonic modulation).
     pub per_note: u64,
 }
@@ -176,10 +176,11 @@ impl Storm {
         // they are ignored), at their extremes one time in five.
         if d.chance(0.5) {
             let key = d.below(128) as u8;
-            let expression = match d.below(4) {
+            let expression = match d.below(5) {
                 0 => NoteExpression::Tuning(extreme(d, -MAX_NOTE_TUNING, MAX_NOTE_TUNING)),
                 1 => NoteExpression::Volume(extreme(d, 0.0, MAX_NOTE_VOLUME)),
                 2 => NoteExpression::Pressure(extreme(d, 0.0, 1.0)),
+                3 => NoteExpression::Pan(extreme(d, 0.0, 1.0)),
                 _ => NoteExpression::Brightness(extreme(d, 0.0, 1.0)),
             };
             out.push(Event::new(

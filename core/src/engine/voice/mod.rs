@@ -82,6 +82,9 @@ pub(crate) struct Voice {
     pub note_tuning: f32,
     /// The note's own gain (per-note volume expression; 1 at note-on).
     pub note_volume: f32,
+    /// The note's stereo position (per-note pan expression, 0 left to 1 right; 0.5 at
+    /// note-on). Audio thread.
+    pub note_pan: f32,
     /// The player's hand pressure on this note (per-note pressure expression, 0 to 1; 0 at
     /// note-on). Audio thread.
     pub note_pressure: f32,
@@ -111,6 +114,7 @@ impl Voice {
             level: 1.0,
             note_tuning: 0.0,
             note_volume: 1.0,
+            note_pan: 0.5,
             note_pressure: 0.0,
             note_brightness: modulation::NEUTRAL_BRIGHTNESS,
             overrides: NoteOverrides::default(),
@@ -151,6 +155,7 @@ impl Voice {
         // Every note starts with neutral expressions and no modulation of its own.
         self.note_tuning = 0.0;
         self.note_volume = 1.0;
+        self.note_pan = 0.5;
         self.note_pressure = 0.0;
         self.note_brightness = modulation::NEUTRAL_BRIGHTNESS;
         self.overrides = NoteOverrides::default();
