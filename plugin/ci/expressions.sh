@@ -11,7 +11,8 @@
 # 1.3e-3, where the audio thread alone measures 1e-8. `expression` renders CLAP tuning and
 # volume expressions on two overlapping notes and MPE member-channel bends, and measures each
 # note's fundamental and level (its module doc has the estimator and tolerances), a CLAP
-# polyphonic modulation of one note's damping (its decay rate) and the plugin's note ends
+# polyphonic modulation of one note's damping (its decay rate), a CLAP pressure on one note
+# (the hand: a faster decay) and the plugin's note ends
 # after the note-offs (release T60 0.1 s; plugin/test-host/src/polymod.rs). Then each
 # deliberately broken input (an expression or the MPE configuration left out) must fail.
 set -euo pipefail
@@ -40,7 +41,7 @@ PY
 
 timeout 600 "$HOST" expression "$CLAP" "$OUT/ideal-string.state" --out "$OUT" \
     2>"$OUT/expression.log" | tee "$OUT/expression.out"
-for what in tuning volume mpe-config member-bend poly-mod note-off; do
+for what in tuning volume mpe-config member-bend poly-mod note-off pressure; do
     if timeout 600 "$HOST" expression "$CLAP" "$OUT/ideal-string.state" --break "$what" \
         >"$OUT/broken-$what.out" 2>"$OUT/broken-$what.log"; then
         echo "expression passed with the $what left out"

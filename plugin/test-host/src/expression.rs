@@ -31,12 +31,13 @@
 //! semitones: 1.2e-2; 14-bit centre error 1/16383 of 48 semitones: 1.7e-4); level 1e-3
 //! (the engine's volume test; a volume left out is off by 0.5).
 //!
-//! - `clap poly modulation`, `note ends` and `per-note flags`: `polymod.rs`.
+//! - `clap poly modulation`, `clap pressure`, `note ends` and `per-note flags`: `polymod.rs`.
 //!
 //! `--break WHAT` leaves something out of what the host sends, and the checks must then fail
 //! (CI runs each): `tuning` (no CLAP tuning), `volume` (no CLAP volume), `mpe-config` (no MPE
 //! Configuration Message: every bend is the global one), `member-bend` (no member-channel
-//! bend), `poly-mod` (no polyphonic modulation), `note-off` (no note-offs: no note may end).
+//! bend), `poly-mod` (no polyphonic modulation), `note-off` (no note-offs: no note may end),
+//! `pressure` (no CLAP pressure).
 //!
 //! Threads: the test host's main thread plays both the main and the audio thread.
 
@@ -93,6 +94,8 @@ pub enum Break {
     PolyMod,
     /// The note-offs (`polymod.rs`: no note may end).
     NoteOff,
+    /// The CLAP pressure expression (`polymod.rs`).
+    Pressure,
 }
 
 /// Options of `expression`.
@@ -132,9 +135,10 @@ impl ExpressionOptions {
                         "member-bend" => Break::MemberBend,
                         "poly-mod" => Break::PolyMod,
                         "note-off" => Break::NoteOff,
+                        "pressure" => Break::Pressure,
                         other => {
                             return Err(format!(
-                            "--break: `{other}` is none of tuning, volume, mpe-config, member-bend, poly-mod, note-off"
+                            "--break: `{other}` is none of tuning, volume, mpe-config, member-bend, poly-mod, note-off, pressure"
                         ))
                         }
                     });

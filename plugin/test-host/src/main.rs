@@ -51,7 +51,7 @@ fn usage() -> &'static str {
      noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]\n  \
      noether-test-host compare A.wav B.wav [--seconds S] [--max-freq HZ] [--max-level-db X] [--max-lsd-db X] [--max-cents X]\n  \
      noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]\n  \
-     noether-test-host expression PLUGIN.clap STATE [--out DIR] [--break tuning|volume|mpe-config|member-bend|poly-mod|note-off]"
+     noether-test-host expression PLUGIN.clap STATE [--out DIR] [--break tuning|volume|mpe-config|member-bend|poly-mod|note-off|pressure]"
 }
 
 fn parse_args(args: &[String]) -> Result<Command, String> {

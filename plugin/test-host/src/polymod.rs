@@ -17,10 +17,17 @@
 //! Then both notes are released (note-offs at 2 s, the state's release T60 is 0.1 s) and
 //! within 1 s after it the plugin must report a note end for each note id, and none before.
 //!
+//! `clap pressure`: the same two notes with a CLAP pressure expression of [`PRESSURE`] on
+//! key 62 only: the player's hand rests on that string (an energy-accounted damper whose exact
+//! decay the engine's tests check), so note 62 must decay at least [`PRESSURE_MIN_RATIO`]
+//! times as fast as without it and note 55 at the same rate (1 %).
+//!
 //! Threads: the test host's main thread plays both the main and the audio thread.
 
 use clack_extensions::params::{ParamInfoBuffer, ParamInfoFlags, PluginParams};
-use clack_host::events::event_types::{NoteEndEvent, NoteOffEvent, NoteOnEvent, ParamModEvent};
+use clack_host::events::event_types::{
+    NoteEndEvent, NoteExpressionEvent, NoteExpressionType, NoteOffEvent, NoteOnEvent, ParamModEvent,
+};
 use clack_host::events::Match;
 use clack_host::prelude::*;
 use std::f64::consts::PI;
@@ -42,6 +49,12 @@ const BASE_DAMPING: f64 = 1.0;
 const RATE_RATIO: f64 = (BASE_DAMPING + 20.0 * OFFSET) / BASE_DAMPING;
 /// Tolerance on the rate ratios (relative).
 const RATIO_TOL: f64 = 1e-2;
+/// The CLAP pressure sent on key 62 (a light touch: at full pressure the fundamental dies
+/// 60 dB in 0.15 s, too fast to measure a rate between 0.4 s and 1.4 s).
+const PRESSURE: f64 = 0.02;
+/// Least ratio of note 62's decay rate with and without the pressure (a 0.02 touch adds
+/// about 0.02 · ln(1000) / 0.15 s ≈ 0.9 /s to its fundamental's 0.4 /s).
+const PRESSURE_MIN_RATIO: f64 = 2.0;
 /// The parameters the plugin must let a host modulate per note (display names).
 const PER_NOTE: [&str; 6] = [
     "Strike position",
@@ -60,7 +73,13 @@ struct Played {
 
 /// Renders the two notes (with the modulation if `modulate`), their release, and collects
 /// the plugin's note ends.
-fn play(s: &Session, blob: &[u8], modulate: bool, release: bool) -> Result<Played, String> {
+fn play(
+    s: &Session,
+    blob: &[u8],
+    modulate: bool,
+    release: bool,
+    pressure: bool,
+) -> Result<Played, String> {
     let damping = &s.params[s.index_of("Damping")?];
     let mut inst = s.instance()?;
     load_state(&mut inst, blob)?;
@@ -82,6 +101,14 @@ fn play(s: &Session, blob: &[u8], modulate: bool, release: bool) -> Result<Playe
     }
     if modulate {
         start.push(&ParamModEvent::new(0, damping.id, note(62), OFFSET));
+    }
+    if pressure {
+        start.push(&NoteExpressionEvent::new(
+            0,
+            note(62),
+            NoteExpressionType::Pressure,
+            PRESSURE,
+        ));
     }
     let mut offs = EventBuffer::new();
     for key in [55, 62] {
@@ -194,13 +221,15 @@ pub fn poly_cases(
     mut report: impl FnMut(&str, Result<String, String>),
 ) -> Result<(), String> {
     report("per-note flags", per_note_flags(s));
-    let plain = play(s, blob, false, true)?;
+    let plain = play(s, blob, false, true, false)?;
     let modulated = play(
         s,
         blob,
         broken != Some(Break::PolyMod),
         broken != Some(Break::NoteOff),
+        false,
     )?;
+    let pressed = play(s, blob, false, true, broken != Some(Break::Pressure))?;
     let f = |key: u8| f1 * ((f64::from(key) - 55.0) / 12.0).exp2();
     let ratio = |key: u8| decay_rate(&modulated.left, f(key)) / decay_rate(&plain.left, f(key));
     let (r62, r55) = (ratio(62), ratio(55));
@@ -216,6 +245,19 @@ pub fn poly_cases(
             Ok(line)
         } else {
             Err(format!("{line} (tolerance {RATIO_TOL:.0e})"))
+        },
+    );
+    let pratio = |key: u8| decay_rate(&pressed.left, f(key)) / decay_rate(&plain.left, f(key));
+    let (p62, p55) = (pratio(62), pratio(55));
+    let line = format!("note 62 (pressure {PRESSURE}) decays x{p62:.3} as fast, note 55 x{p55:.4}");
+    report(
+        "clap pressure",
+        if p62 > PRESSURE_MIN_RATIO && (p55 - 1.0).abs() < RATIO_TOL {
+            Ok(line)
+        } else {
+            Err(format!(
+                "{line} (expected above {PRESSURE_MIN_RATIO} and 1 within {RATIO_TOL:.0e})"
+            ))
         },
     );
     let off_at = (RELEASE_AT * RATE) as usize;
