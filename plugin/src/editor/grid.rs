@@ -128,19 +128,36 @@ const SECTIONS: [Section; 7] = {
     ]
 };
 
-/// Whether the model with index `model` (see `MODEL_NAMES`) reads parameter `id`, with
-/// `material` the material index (the custom material's constants only matter for it).
-pub fn relevant(id: ParamId, model: usize, material: usize, head: usize) -> bool {
+/// The choices that decide which rows the editor shows (enumeration indices).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Choices {
+    /// `model` (see `MODEL_NAMES`).
+    pub model: usize,
+    /// `material` (the custom material's constants only matter for it).
+    pub material: usize,
+    /// `exciter`: 0 the force pulse, 1 the mallet.
+    pub exciter: usize,
+    /// `mallet_head`: 0 custom, else a factory head.
+    pub head: usize,
+}
+
+/// Whether the instrument the choices `c` describe reads parameter `id`: the model's own
+/// parameters, the custom material's constants, the exciter's (the pulse's duration and
+/// force, or the mallet's head, speed and, for the custom head, its mass and hardness).
+pub fn relevant(id: ParamId, c: Choices) -> bool {
     use ParamId::*;
+    let (model, material) = (c.model, c.material);
     let plate = model <= 2;
     let string = !plate;
+    let mallet = plate && c.exciter == 1;
     match id {
         YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
         Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
-        | StrikeDuration | StrikeForce | PickupLeftAngle | PickupRightAngle | InPlaneModes
-        | Scheme | BandLimit | Exciter | MalletHead | MalletSpeed => plate,
+        | PickupLeftAngle | PickupRightAngle | InPlaneModes | Scheme | BandLimit | Exciter => plate,
+        StrikeDuration | StrikeForce => plate && c.exciter == 0,
+        MalletHead | MalletSpeed => mallet,
         // A factory head brings its own mass and law.
-        MalletMass | MalletHardness => plate && head == 0,
+        MalletMass | MalletHardness => mallet && c.head == 0,
         Aspect => model == 2,
         Tension | LinearDensity | Inharmonicity | BridgePosition | ContactStiffness
         | ContactAlpha | PluckPosition | PluckAmplitude => string,
@@ -285,7 +302,12 @@ fn enum_menu(ui: &mut Ui, setter: &ParamSetter, p: &IntParam, names: &[&str], ke
 pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter) {
     let model = params.slot(ParamId::Model).value() as usize;
     let material = params.slot(ParamId::Material).value() as usize;
-    let head = params.slot(ParamId::MalletHead).value() as usize;
+    let choices = Choices {
+        model,
+        material,
+        exciter: params.slot(ParamId::Exciter).value() as usize,
+        head: params.slot(ParamId::MalletHead).value() as usize,
+    };
     // One slider width for every row: what the panel leaves after the label and value
     // columns (and the collapsing header's indent).
     let indent = ui.spacing().indent;
@@ -304,7 +326,7 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
             .params
             .iter()
             .copied()
-            .filter(|&id| relevant(id, model, material, head))
+            .filter(|&id| relevant(id, choices))
             .collect();
         if rows.is_empty() {
             continue;
@@ -409,24 +431,39 @@ mod tests {
 
     #[test]
     fn only_the_models_sections() {
-        // A gong (model 0, steel) shows no bridge, pluck or custom material constants.
-        assert!(!relevant(ParamId::ContactStiffness, 0, 0, 0));
-        assert!(!relevant(ParamId::PluckPosition, 0, 0, 0));
-        assert!(!relevant(ParamId::YoungsModulus, 0, 0, 0));
-        assert!(relevant(
-            ParamId::YoungsModulus,
-            0,
-            MATERIAL_NAMES.len() - 1,
-            0
-        ));
+        // A gong (model 0, steel, pulse) shows no bridge, pluck or custom material constants.
+        let gong = Choices::default();
+        assert!(!relevant(ParamId::ContactStiffness, gong));
+        assert!(!relevant(ParamId::PluckPosition, gong));
+        assert!(!relevant(ParamId::YoungsModulus, gong));
+        let custom = Choices {
+            material: MATERIAL_NAMES.len() - 1,
+            ..gong
+        };
+        assert!(relevant(ParamId::YoungsModulus, custom));
         // A sitar (model 3) shows its bridge and no mallet.
-        assert!(relevant(ParamId::BridgeCurvature, 3, 0, 0));
-        assert!(!relevant(ParamId::StrikeDuration, 3, 0, 0));
-        assert!(!relevant(ParamId::MalletHead, 3, 0, 0));
+        let sitar = Choices { model: 3, ..gong };
+        assert!(relevant(ParamId::BridgeCurvature, sitar));
+        assert!(!relevant(ParamId::StrikeDuration, sitar));
+        assert!(!relevant(
+            ParamId::MalletHead,
+            Choices {
+                exciter: 1,
+                ..sitar
+            }
+        ));
+        // The pulse shows its duration and force, the mallet its own rows.
+        assert!(relevant(ParamId::StrikeDuration, gong));
+        assert!(!relevant(ParamId::MalletSpeed, gong));
+        let mallet = Choices { exciter: 1, ..gong };
+        assert!(!relevant(ParamId::StrikeForce, mallet));
+        assert!(relevant(ParamId::MalletSpeed, mallet));
+        assert!(relevant(ParamId::MalletMass, mallet));
         // A factory head hides the custom mallet's mass and hardness.
-        assert!(relevant(ParamId::MalletMass, 0, 0, 0));
-        assert!(!relevant(ParamId::MalletMass, 0, 0, 4));
-        assert!(!relevant(ParamId::MalletHardness, 0, 0, 4));
+        let wood = Choices { head: 4, ..mallet };
+        assert!(!relevant(ParamId::MalletMass, wood));
+        assert!(!relevant(ParamId::MalletHardness, wood));
+        assert!(relevant(ParamId::MalletHead, wood));
         // Every parameter sits in some section.
         for info in noether_core::engine::PARAMS {
             assert!(
