@@ -64,15 +64,28 @@ fn push(out: &mut Vec<Event>, event: Event) {
     }
 }
 
-/// The plain value of poly parameter `slot` at normalised `base + offset` (clamped).
-fn plain(params: &NoetherParams, slot: usize, base: Option<f32>, offset: f32) -> Option<f32> {
-    match params.slot(POLY_PARAMS[slot]) {
-        Slot::Float(p) => {
-            let n = base.unwrap_or_else(|| p.unmodulated_normalized_value());
-            Some(p.preview_plain((n + offset).clamp(0.0, 1.0)))
-        }
-        Slot::Int(_) => None,
-    }
+/// Appends the engine event giving the note on `key` its own value of poly parameter `slot`:
+/// the plain value at normalised `base + offset` (clamped; `base` the parameter's unmodulated
+/// value when `None`). Nothing for a stepped parameter (none is a poly parameter).
+fn modulate(
+    out: &mut Vec<Event>,
+    params: &NoetherParams,
+    at: u32,
+    key: u8,
+    slot: usize,
+    base: Option<f32>,
+    offset: f32,
+) {
+    let param = POLY_PARAMS[slot];
+    let Slot::Float(p) = params.slot(param) else {
+        return;
+    };
+    let n = base.unwrap_or_else(|| p.unmodulated_normalized_value());
+    let value = p.preview_plain((n + offset).clamp(0.0, 1.0));
+    push(
+        out,
+        Event::new(at, EventKind::NoteModulation { key, param, value }),
+    );
 }
 
 impl PolyVoices {
@@ -132,20 +145,7 @@ impl PolyVoices {
                 if let Some(n) = self.notes[usize::from(k)].as_mut() {
                     n.offsets[slot] = normalized_offset;
                 }
-                if let Some(value) = plain(params, slot, None, normalized_offset) {
-                    let param = POLY_PARAMS[slot];
-                    push(
-                        out,
-                        Event::new(
-                            at,
-                            EventKind::NoteModulation {
-                                key: k,
-                                param,
-                                value,
-                            },
-                        ),
-                    );
-                }
+                modulate(out, params, at, k, slot, None, normalized_offset);
             }
             NoteEvent::MonoAutomation {
                 poly_modulation_id,
@@ -164,20 +164,7 @@ impl PolyVoices {
                     if offset.is_nan() {
                         continue;
                     }
-                    if let Some(value) = plain(params, slot, Some(normalized_value), offset) {
-                        let param = POLY_PARAMS[slot];
-                        push(
-                            out,
-                            Event::new(
-                                at,
-                                EventKind::NoteModulation {
-                                    key: k,
-                                    param,
-                                    value,
-                                },
-                            ),
-                        );
-                    }
+                    modulate(out, params, at, k, slot, Some(normalized_value), offset);
                 }
             }
             _ => {}

@@ -12,10 +12,8 @@ const BLOCK: usize = 256;
 /// The window measured: the strike and the first 0.2 s of ringing.
 const WINDOW: f64 = 0.2;
 
-/// Renders `seconds` of key 60 at MIDI velocity `vel` on gong-40N with `set` applied (and the
-/// output gain at -20 dB, so no preset peak nears the limiter: its gain would change the
-/// sound), returning the left and right channels.
-fn render(vel: u8, seconds: f64, set: &[(ParamId, f32)]) -> (Vec<f32>, Vec<f32>) {
+/// The engine on gong-40N, one voice, output gain -20 dB, with `set` applied, activated.
+fn engine(set: &[(ParamId, f32)]) -> Engine {
     let params = Arc::new(SharedParams::new());
     Preset::factory_named("gong-40N")
         .unwrap()
@@ -28,6 +26,14 @@ fn render(vel: u8, seconds: f64, set: &[(ParamId, f32)]) -> (Vec<f32>, Vec<f32>)
     }
     let (mut e, _h) = Engine::new(params);
     assert!(e.activate(RATE, BLOCK).unwrap().is_none());
+    e
+}
+
+/// Renders `seconds` of key 60 at MIDI velocity `vel` on gong-40N with `set` applied (and the
+/// output gain at -20 dB, so no preset peak nears the limiter: its gain would change the
+/// sound), returning the left and right channels.
+fn render(vel: u8, seconds: f64, set: &[(ParamId, f32)]) -> (Vec<f32>, Vec<f32>) {
+    let mut e = engine(set);
     e.note_on(60, f32::from(vel) / 127.0);
     let n = (seconds * RATE) as usize;
     let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
@@ -182,23 +188,13 @@ fn mallet_extremes_stay_within_the_ceiling() {
 #[test]
 fn the_mallet_strikes_again_when_the_plate_catches_it() {
     let impacts = |mass: f32, hardness: f32, speed: f32| {
-        let params = Arc::new(SharedParams::new());
-        Preset::factory_named("gong-40N")
-            .unwrap()
-            .apply(&params)
-            .unwrap();
-        params.set(ParamId::Polyphony, 1.0).unwrap();
-        params.set(ParamId::Modes, 100.0).unwrap();
-        for (id, x) in [
+        let mut e = engine(&[
+            (ParamId::Modes, 100.0),
             (ParamId::Exciter, 1.0),
             (ParamId::MalletMass, mass),
             (ParamId::MalletHardness, hardness),
             (ParamId::MalletSpeed, speed),
-        ] {
-            params.set(id, x).unwrap();
-        }
-        let (mut e, _h) = Engine::new(params);
-        assert!(e.activate(RATE, BLOCK).unwrap().is_none());
+        ]);
         e.note_on(60, 1.0);
         let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
         let mut at = Vec::new();

@@ -51,13 +51,13 @@ use std::f64::consts::PI;
 use std::path::PathBuf;
 
 use crate::conform_render::{load_state, Session};
-use crate::host::process_stereo;
+use crate::host::{process_stereo, TestHost};
 use crate::path_arg;
 
 /// Host rate of the renders (Hz).
-const RATE: f64 = 48_000.0;
+pub(crate) const RATE: f64 = 48_000.0;
 /// Block size (frames).
-const BLOCK: usize = 256;
+pub(crate) const BLOCK: usize = 256;
 /// Length of each render (s).
 const SECONDS: f64 = 2.0;
 /// Half-width of the band mask (Hz): the string's partials are 196 Hz apart, the two notes'
@@ -166,9 +166,18 @@ fn bend_value(raw: u16) -> f64 {
     v / if v < 0.0 { 8192.0 } else { 8191.0 }
 }
 
-/// Renders `SECONDS` of a fresh instance with `blob` loaded and `events` at frame 0; returns
-/// the left channel.
-fn render(s: &Session, blob: &[u8], events: &EventBuffer) -> Result<Vec<f64>, String> {
+/// A fresh instance of `s` with `blob` loaded, activated at [`RATE`] for blocks of 1 to
+/// [`BLOCK`] frames and processing (the `expression` cases' set-up).
+pub(crate) fn started(
+    s: &Session,
+    blob: &[u8],
+) -> Result<
+    (
+        PluginInstance<TestHost>,
+        StartedPluginAudioProcessor<TestHost>,
+    ),
+    String,
+> {
     let mut inst = s.instance()?;
     load_state(&mut inst, blob)?;
     let config = PluginAudioConfiguration {
@@ -179,9 +188,16 @@ fn render(s: &Session, blob: &[u8], events: &EventBuffer) -> Result<Vec<f64>, St
     let stopped = inst
         .activate(|_, _| (), config)
         .map_err(|e| format!("activate: {e:?}"))?;
-    let mut proc = stopped
+    let proc = stopped
         .start_processing()
         .map_err(|e| format!("start_processing: {e:?}"))?;
+    Ok((inst, proc))
+}
+
+/// Renders `SECONDS` of a fresh instance with `blob` loaded and `events` at frame 0; returns
+/// the left channel.
+fn render(s: &Session, blob: &[u8], events: &EventBuffer) -> Result<Vec<f64>, String> {
+    let (mut inst, mut proc) = started(s, blob)?;
     let total = (SECONDS * RATE) as usize;
     let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
     let (mut ports, mut out_buf, empty) = (

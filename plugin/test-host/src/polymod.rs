@@ -32,13 +32,10 @@ use clack_host::events::Match;
 use clack_host::prelude::*;
 use std::f64::consts::PI;
 
-use crate::conform_render::{load_state, Session};
-use crate::expression::Break;
+use crate::conform_render::Session;
+use crate::expression::{started, Break, BLOCK, RATE};
 use crate::host::process_stereo;
 
-/// Host rate (Hz) and block (frames).
-const RATE: f64 = 48_000.0;
-const BLOCK: usize = 256;
 /// Note-offs at this time (s); the render ends 1 s later.
 const RELEASE_AT: f64 = 2.0;
 /// The normalised offset sent on note 62's damping (+2 on the 0-20 range).
@@ -81,19 +78,7 @@ fn play(
     pressure: bool,
 ) -> Result<Played, String> {
     let damping = &s.params[s.index_of("Damping")?];
-    let mut inst = s.instance()?;
-    load_state(&mut inst, blob)?;
-    let config = PluginAudioConfiguration {
-        sample_rate: RATE,
-        min_frames_count: 1,
-        max_frames_count: BLOCK as u32,
-    };
-    let stopped = inst
-        .activate(|_, _| (), config)
-        .map_err(|e| format!("activate: {e:?}"))?;
-    let mut proc = stopped
-        .start_processing()
-        .map_err(|e| format!("start_processing: {e:?}"))?;
+    let (mut inst, mut proc) = started(s, blob)?;
     let note = |key: u8| Pckn::new(0u16, 0u16, u16::from(key), u32::from(key));
     let mut start = EventBuffer::new();
     for key in [55, 62] {
