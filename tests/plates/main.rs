@@ -21,4 +21,5 @@ mod plate_mirror;
 mod plate_render;
 mod plate_sav;
 mod plate_scheme;
+mod plate_shell;
 mod plate_single;

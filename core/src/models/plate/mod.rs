@@ -84,6 +84,13 @@
 //! The potential `u` written as `ψ²/2` with `ψ` a state; exact linear part; one rank-one
 //! update per step; conserves `t + v + ψ²/2` (derivation, stability and references in `sav.rs`).
 //!
+//! # Curved plates
+//!
+//! A static rest shape `w0 = Σ a_k Φ_k` ([`PlateModel::set_rest_shape`]) makes the plate a
+//! shallow shell (gongs with a dome or boss, cymbals): every scheme above carries over with
+//! `q + a` inside the coupling and the rest shape's own Airy source removed; the energy
+//! identities hold as they stand (derivation in `model/rest_shape.rs`).
+//!
 //! Threads: everything is built on a worker thread; [`PlateModel::step`] and
 //! [`PlateModel::process`] run on the audio thread without allocating.
 

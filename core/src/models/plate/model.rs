@@ -106,6 +106,8 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     sav: Option<SavStep>,
     /// The player's hand (a point damper, [`super::hand`]); `c = 0` without one.
     hand: Hand,
+    /// The static rest shape (flat unless [`Self::set_rest_shape`] set one).
+    rest: RestShape,
     energy: PlateEnergy,
     track_energy: bool,
     diverged: bool,
@@ -193,6 +195,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             solver,
             sav: (params.scheme == PlateScheme::SavExact).then(|| SavStep::new(nf, np)),
             hand: Hand::new(nf),
+            rest: RestShape::flat(nf, np),
             energy: PlateEnergy::default(),
             track_energy: true,
             diverged: false,
@@ -237,12 +240,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             let lin = free_response_backward(self.omega[s], self.damping[s], h, q0[s], v0[s]);
             self.q_prev[s] = lin + 0.5 * h * h * self.f[s];
         }
-        self.coupling.contract_eta_with_scratch(
-            &self.q,
-            &self.q_prev,
-            &mut self.b_half,
-            &mut self.kscratch,
-        );
+        self.refresh_b_half();
         if let Some(sav) = self.sav.as_mut() {
             // ψ(-½) = √(2u) with the conservative schemes' half-step u = Σ u_l Ĥ(q0, q(-1))_l²
             // (an O(h²)-consistent start; the same initial energy as those schemes).
@@ -288,11 +286,18 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 u_coef: &self.u_coef,
                 h2_over_rho_h: h2 / self.rho_h,
             };
+            let rest = if self.rest.on {
+                self.rest.fill_r(&self.q);
+                Some((&self.rest.r[..], &self.rest.c[..]))
+            } else {
+                None
+            };
             sav.step(
                 &*self.coupling,
                 &k,
                 &self.q,
                 &self.q_prev,
+                rest,
                 fscale,
                 &mut self.q_next,
             );
@@ -345,14 +350,31 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     fn linearly_implicit_step(&mut self, fscale: f64) -> Result<(), ()> {
         let nf = self.q.len();
         let np = self.b_half.len();
-        // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} q_k(n).
-        self.coupling
-            .coupling_matrix_with_scratch(&self.q, &mut self.g, &mut self.kscratch);
+        // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} r_k(n), r = q(n) + a
+        // (`rest_shape`; r = q on a flat plate), and the shift σ = Gᵀa - c.
+        let curved = self.rest.on;
+        if curved {
+            self.rest.fill_r(&self.q);
+            self.coupling.coupling_matrix_with_scratch(
+                &self.rest.r,
+                &mut self.g,
+                &mut self.kscratch,
+            );
+            self.rest.update_shift(&self.g);
+        } else {
+            self.coupling
+                .coupling_matrix_with_scratch(&self.q, &mut self.g, &mut self.kscratch);
+        }
         match self.solver.as_mut() {
             None => {
                 // Störmer-Verlet: a q⁺ = b q - d q⁻ + h² (p + f(q)), f from η(q(n)) only:
-                // h² f_s = Σ_l G_{s,l} (-2 h² D_l) Ĥ(q, q)_l with Ĥ(q, q) = Gᵀ q.
-                self.w.fill(0.0);
+                // h² f_s = Σ_l G_{s,l} (-2 h² D_l) Ĥ(q, q)_l with Ĥ(q, q) = Gᵀ q
+                // (curved: Ĥ(r, r) - c = Gᵀ q + σ).
+                if curved {
+                    self.w.copy_from_slice(&self.rest.shift);
+                } else {
+                    self.w.fill(0.0);
+                }
                 for (grow, &qs) in self.g.chunks_exact(np.max(1)).zip(&self.q) {
                     for (wl, &gv) in self.w.iter_mut().zip(grow) {
                         *wl += gv * qs;
@@ -371,13 +393,21 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 }
             }
             Some(solver) => {
-                // Conservative: (A + h² G D Gᵀ) q⁺ = b q - d q⁻ + h² p - h² G D Ĥ(q, q⁻).
+                // Conservative: (A + h² G D Gᵀ) q⁺ = b q - d q⁻ + h² p - h² G D Ĥ(q, q⁻)
+                // (curved: Ĥ(q, q⁻) becomes b(n) + σ, `rest_shape`).
+                if curved {
+                    for ((b, &sg), w) in self.b_half.iter().zip(&self.rest.shift).zip(&mut self.w) {
+                        *w = b + sg;
+                    }
+                } else {
+                    self.w.copy_from_slice(&self.b_half);
+                }
                 for s in 0..nf {
                     let grow = &self.g[s * np..(s + 1) * np];
                     let nl: f64 = grow
                         .iter()
                         .zip(&self.dh2)
-                        .zip(&self.b_half)
+                        .zip(&self.w)
                         .map(|((g, d), b)| g * d * b)
                         .sum();
                     self.r[s] = self.b[s] * self.q[s] - self.d[s] * self.q_prev[s]
@@ -406,11 +436,16 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         Ok(())
     }
 
-    /// `b_next = Ĥ(q⁺, q) = Gᵀ q⁺` (H symmetric): `u(n+1)`, and the next step's `Ĥ(q, q⁻)`.
+    /// `b_next = Ĥ(q⁺, q) = Gᵀ q⁺` (H symmetric; curved: `Ĥ(r⁺, r) - c = Gᵀ q⁺ + σ`):
+    /// `u(n+1)`, and the next step's `b(n)`.
     #[inline]
     fn update_b_next(&mut self) {
         let np = self.b_next.len();
-        self.b_next.fill(0.0);
+        if self.rest.on {
+            self.b_next.copy_from_slice(&self.rest.shift);
+        } else {
+            self.b_next.fill(0.0);
+        }
         for (grow, &x) in self.g.chunks_exact(np.max(1)).zip(&self.q_next) {
             for (bn, &gv) in self.b_next.iter_mut().zip(grow) {
                 *bn += gv * x;
@@ -508,23 +543,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
     }
 
-    /// `self.f = scale · h² Σ_l G_{s,l}(q) (-2 D_l) Ĥ(q,q)_l`: the Störmer-Verlet nonlinear
-    /// acceleration times `h² · scale` at the current `q`, through the `contract_eta` and
-    /// `apply_force` kernels (used by [`Self::set_state`]; `step` goes through `G` instead).
-    fn nonlinear_force(&mut self, scale: f64) {
-        if self.w.is_empty() {
-            self.f.fill(0.0);
-            return;
-        }
-        self.coupling
-            .contract_eta_with_scratch(&self.q, &self.q, &mut self.w, &mut self.kscratch);
-        for (w, &d) in self.w.iter_mut().zip(&self.dh2) {
-            *w *= -2.0 * d * scale;
-        }
-        self.coupling
-            .apply_force_with_scratch(&self.q, &self.w, &mut self.f, &mut self.kscratch);
-    }
-
     /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`).
     fn update_power(&mut self, force: f64) {
         let (h, rho_h) = (self.h, self.rho_h);
@@ -588,5 +606,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
 mod free_response;
 mod hand;
 mod mallet_step;
+mod rest_shape;
 mod retune;
+use rest_shape::RestShape;
 pub use retune::Unstable;

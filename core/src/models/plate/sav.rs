@@ -98,20 +98,41 @@ impl SavStep {
     }
 
     /// One step: writes `q(n+1)` into `q_next` and advances `ψ` to `ψ(n+½)`.
-    /// `fscale = h² F(n) / ρh`. Audio thread: no allocation, `O(nnz + N_Φ)` work.
+    /// `fscale = h² F(n) / ρh`. `rest`: for a plate with a rest shape `a`
+    /// (`super::model::rest_shape`), `(r, c)` with `r = q(n) + a` and `c_l = Ĥ(a, a)_l`, so
+    /// that `U = Σ_l u_l (Ĥ(r,r)_l - c_l)²`; `None` for a flat plate.
+    /// Audio thread: no allocation, `O(nnz + N_Φ)` work.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn step<C: ModalCoupling + ?Sized>(
         &mut self,
         coupling: &C,
         k: &SavCoefficients<'_>,
         q: &[f64],
         q_prev: &[f64],
+        rest: Option<(&[f64], &[f64])>,
         fscale: f64,
         q_next: &mut [f64],
     ) {
         // g = ∇U / √(2U), ∇U_s = Σ_l 4 u_l Ĥ(q,q)_l Σ_k Ĥ^l_{s,k} q_k (fused kernel when the
-        // coupling has one, else two passes).
+        // coupling has one, else two passes; a curved plate takes the two passes at r with
+        // Ĥ(r,r) - c).
         if self.w.is_empty() {
             self.g.fill(0.0);
+        } else if let Some((r, c)) = rest {
+            coupling.contract_eta(r, r, &mut self.w);
+            for (w, &c) in self.w.iter_mut().zip(c) {
+                *w -= c;
+            }
+            let psi_q = Self::psi_from(k.u_coef, &self.w);
+            if psi_q > 0.0 {
+                let inv = 4.0 / psi_q;
+                for (w, &u) in self.w.iter_mut().zip(k.u_coef) {
+                    *w *= u * inv;
+                }
+                coupling.apply_force(r, &self.w, &mut self.g);
+            } else {
+                self.g.fill(0.0);
+            }
         } else if coupling.quartic_gradient(q, k.u_coef, &mut self.w, &mut self.g, &mut self.y) {
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };

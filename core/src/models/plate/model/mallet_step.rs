@@ -49,11 +49,18 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 u_coef: &self.u_coef,
                 h2_over_rho_h,
             };
+            let rest = if self.rest.on {
+                self.rest.fill_r(&self.q);
+                Some((&self.rest.r[..], &self.rest.c[..]))
+            } else {
+                None
+            };
             sav.step(
                 &*self.coupling,
                 &k,
                 &self.q,
                 &self.q_prev,
+                rest,
                 0.0,
                 &mut self.q_next,
             );
