@@ -12,7 +12,7 @@ use super::{check_finite_outputs, BalanceMeter, Case, Density, RunResult};
 use crate::models::plate::voice::PlateVoice;
 use crate::render::source::RenderSource;
 use crate::scene::plate::{
-    Damping, Excitation, Material, PlateScheme, PlateShape, PlateSpec, Position,
+    Damping, Excitation, Material, PlateScheme, PlateShape, PlateSpec, Position, ShapePart,
 };
 use crate::ParamError;
 
@@ -33,6 +33,9 @@ struct PlateCase {
     fs: f64,
     n_phi: usize,
     n_psi: usize,
+    /// Rest shape's rise in thicknesses (0: flat): a spherical cap plus a centre boss of half
+    /// that height on circles, a dome on rectangles.
+    rise: f64,
 }
 
 impl PlateCase {
@@ -43,8 +46,13 @@ impl PlateCase {
             Damping::Q { q } => format!("Q={q}"),
             Damping::T60 { seconds } => format!("T60={seconds}s"),
         };
+        let rise = if self.rise > 0.0 {
+            format!(" rise={}h", self.rise)
+        } else {
+            String::new()
+        };
         format!(
-            "size={} m h={} mm F={:e} N {d} fs={} N_phi={} N_psi={}",
+            "size={} m h={} mm F={:e} N {d} fs={} N_phi={} N_psi={}{rise}",
             self.size,
             self.thickness * 1e3,
             self.force,
@@ -89,6 +97,27 @@ impl PlateCase {
                 peak_force: self.force,
             },
             pickups: Vec::new(),
+            imperfection: self.imperfection(),
+        }
+    }
+
+    fn imperfection(&self) -> Vec<ShapePart> {
+        let rise = self.rise * self.thickness;
+        if rise == 0.0 {
+            Vec::new()
+        } else if self.shape.is_circular() {
+            vec![
+                ShapePart::Spherical {
+                    rise: Some(rise),
+                    curvature_radius: None,
+                },
+                ShapePart::Boss {
+                    rise: 0.5 * rise,
+                    radius: 0.2,
+                },
+            ]
+        } else {
+            vec![ShapePart::Dome { rise }]
         }
     }
 }
@@ -198,6 +227,12 @@ pub fn cases(density: Density) -> Vec<Case> {
     } else {
         &[(1, 0), (1, 1), (60, 20), (2000, 2)]
     };
+    // Rest shapes up to the largest accepted rise (500 thicknesses, κ = 1000 for a cap).
+    let rises: &[f64] = if full {
+        &[1.0, 10.0, 50.0, 500.0]
+    } else {
+        &[10.0, 500.0]
+    };
     let dampings = [
         Damping::None,
         // Critical for every mode: c = 2ω (ξ = 1); then ten times critical.
@@ -238,6 +273,7 @@ pub fn cases(density: Density) -> Vec<Case> {
                 fs: 48e3,
                 n_phi: 10,
                 n_psi: 5,
+                rise: 0.0,
             };
             let mut list = vec![base];
             list.extend(forces.iter().map(|&force| PlateCase { force, ..base }));
@@ -258,6 +294,7 @@ pub fn cases(density: Density) -> Vec<Case> {
                 n_psi,
                 ..base
             }));
+            list.extend(rises.iter().map(|&rise| PlateCase { rise, ..base }));
             // Corners: thin, large and hit hard at the lowest rate, lossless; thick, small
             // and touched at the highest rate, over-damped; thin, small, hit hard, lossless.
             list.push(PlateCase {
@@ -280,6 +317,14 @@ pub fn cases(density: Density) -> Vec<Case> {
                 thickness: 1e-4,
                 size: 0.05,
                 force: 1e5,
+                damping: Damping::None,
+                ..base
+            });
+            // The most curved plate, hit hard at the lowest rate, lossless.
+            list.push(PlateCase {
+                rise: 500.0,
+                force: 1e5,
+                fs: 8e3,
                 damping: Damping::None,
                 ..base
             });

@@ -22,4 +22,5 @@ mod plate_render;
 mod plate_sav;
 mod plate_scheme;
 mod plate_shell;
+mod plate_shell_scene;
 mod plate_single;

@@ -63,6 +63,7 @@ pub fn plate_spec(
         damping,
         excitation,
         pickups: Vec::new(),
+        imperfection: Vec::new(),
     }
 }
 

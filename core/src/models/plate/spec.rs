@@ -2,6 +2,9 @@
 //! pickups.
 
 use super::mallet_heads::{HeadLaw, MalletHead};
+use super::rest_shape::validate_parts;
+/// One part of `plate.imperfection` (the rest shape's own type).
+pub use super::rest_shape::ShapePart;
 use crate::error::{check_closed, ParamError};
 use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
@@ -335,6 +338,15 @@ pub struct PlateSpec {
     pub damping: Damping,
     /// Excitation.
     pub excitation: Excitation,
+    /// The static rest shape (`plate.imperfection`): one part or an array of parts that add
+    /// up (a spherical cap, a centre boss, a radial profile, a rectangle's dome, modal
+    /// coefficients; [`super::rest_shape::ShapePart`]). Empty (default): a flat plate.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "super::rest_shape::one_or_many"
+    )]
+    pub imperfection: Vec<ShapePart>,
     /// Output channels (default: a stereo velocity pair at r = 0.896 a, angles 0.519 and
     /// -0.8 rad on circles; (0.31, 0.37) and (0.63, 0.71) on rectangles).
     #[serde(default)]
@@ -437,6 +449,13 @@ impl PlateSpec {
                 check_closed("plate.excitation.velocity", velocity, -1e4, 1e4)?;
             }
         }
+        validate_parts(
+            &self.imperfection,
+            self.shape,
+            self.length_scale(),
+            self.thickness,
+            self.n_phi,
+        )?;
         if self.pickups.len() > 64 {
             return Err(ParamError::new(
                 "plate.pickups",

@@ -97,10 +97,12 @@ impl RestShape {
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// Sets the static rest shape `w0 = Σ_k a_k Φ_k` (`a` in units of `q`, m², length `N_Φ`;
-    /// all zeros for the flat plate, which then runs exactly the flat plate's arithmetic) and
-    /// puts the plate at rest on it ([`Self::reset`]). Errors: length or a non-finite entry
-    /// (field `rest_shape`). The thread that owns the model: one pass over the coupling
-    /// tensor, no allocation.
+    /// all zeros for the flat plate, which then runs exactly the flat plate's arithmetic).
+    /// The state `q` (the motion about the rest shape) is kept and the stored energy
+    /// recomputed; the accumulators are not rewritten, so, as with a retune, the power
+    /// balance holds from the change on. Errors: length or a non-finite entry (field
+    /// `rest_shape`); on error the model is unchanged. The thread that owns the model: two
+    /// passes over the coupling tensor, no allocation.
     pub fn set_rest_shape(&mut self, a: &[f64]) -> Result<(), ParamError> {
         let nf = self.q.len();
         if a.len() != nf {
@@ -127,7 +129,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             rest.c.fill(0.0);
         }
         rest.shift.fill(0.0);
-        self.reset();
+        self.refresh_b_half();
+        if let Some(sav) = self.sav.as_mut() {
+            sav.psi = super::SavStep::psi_from(&self.u_coef, &self.b_half);
+        }
+        if self.track_energy {
+            self.update_stored_energy(false);
+        }
         Ok(())
     }
 
