@@ -57,8 +57,9 @@
 //! (`M_r ∝ w'' + ν w'/r = 2(1+ν) ≠ 0` at `r = 1`), so its modal series converges
 //! algebraically, not spectrally. [`CapCoupling::Direct`] computes
 //! `g̃_l[s] = ∫ Ψ_l L(Φ_s, w0/h) dS = -κ ∫ Ψ_l ΔΦ_s dS` directly (no truncation of `w0`), which
-//! separates the truncation of `w0` from that of the Airy basis; measured rates in
-//! `docs/models.md` ("Curved plates: linear modes").
+//! separates the truncation of `w0` from that of the Airy basis, and
+//! [`CapCoupling::InPlaneExact`] removes the Airy truncation too (closed-form in-plane solve,
+//! `shell_condensed.rs`); measured rates in `docs/models.md` ("Curved plates: linear modes").
 //!
 //! Threads: everything here runs on a worker thread (allocates, solves eigenproblems).
 
@@ -189,6 +190,11 @@ pub enum CapCoupling {
     /// `g̃_l[s] = ∫ Ψ_l L(Φ_s, w0/h) dS = -κ ∫ Ψ_l ΔΦ_s dS` by radial quadrature (exact for the
     /// cap: no truncation of `w0`; a diagnostic of the projection's convergence).
     Direct,
+    /// The cap with the in-plane problem solved in closed form (the `N_Ψ → ∞` limit of
+    /// [`Self::Direct`]): `K = diag(λ_s⁴) + μ(I - p pᵀ)` per angular block, `μ = 12(1-ν²)κ²`,
+    /// `p_s` the overlap of `Φ_s` with the unit harmonic `rⁿ cos nθ` (zero for `n ≤ 1`); only
+    /// `N_Φ` is truncated (derivation in `shell_condensed.rs`).
+    InPlaneExact,
 }
 
 /// One linear mode of the shell.
@@ -209,7 +215,8 @@ pub struct ShellMode {
 
 /// The linear stiffness `K` (row-major `N_Φ × N_Φ`, dimensionless, units of `D/(ρh a⁴)`) of
 /// the shell `imperfection` on the transverse and in-plane bases of `modes` (free edge):
-/// `K = diag(λ_s⁴) + 12(1-ν²) Σ_l ζ_l⁻⁴ g̃_l g̃_lᵀ` (module docs). Worker thread.
+/// `K = diag(λ_s⁴) + 12(1-ν²) Σ_l ζ_l⁻⁴ g̃_l g̃_lᵀ` (module docs; with
+/// [`CapCoupling::InPlaneExact`], its `N_Ψ → ∞` limit). Worker thread.
 pub fn shell_stiffness(
     modes: &PlateModes,
     imperfection: &Imperfection,
@@ -231,6 +238,9 @@ pub fn shell_stiffness(
             g
         }
         CapCoupling::Direct => direct_coupling(modes, imperfection),
+        CapCoupling::InPlaneExact => {
+            return Ok(condensed::in_plane_exact_stiffness(modes, imperfection))
+        }
     };
     let c = 12.0 * (1.0 - modes.spec.nu * modes.spec.nu);
     let mut k = vec![0.0; n_phi * n_phi];
@@ -338,6 +348,9 @@ pub fn shell_modes(
     }
     Ok(out)
 }
+
+#[path = "shell_condensed.rs"]
+mod condensed;
 
 #[cfg(test)]
 #[path = "shell_tests.rs"]
