@@ -36,12 +36,16 @@ curved case: modes without nodal circles ((n, 0), n >= 2) barely move with kappa
 nodal circles rise to the membrane limit lambda^2 = sqrt(mu) (Thomas, Touze & Chaigne 2005,
 fig. 3), and the axisymmetric fundamental follows lambda^4 ~ lambda_plate^4 + mu (66.70 at
 kappa = 20 against 66.70 from the flat plate's 9.0031). Limit: the one scan step that
-straddles lambda^4 = mu (0.02 in lambda) is skipped, so a root inside it would be missed.
+straddles lambda^4 = mu (0.02 in lambda) is skipped, so a root inside it would be missed; a
+printed root within two steps of lambda^4 = mu is flagged (kappa = 20 and 50: (0,1)), and the
+crate's in-plane-exact route (core/src/modal/shell_condensed.rs, no shared code) finds the
+same modes with the same labels, which a missed root would shift.
 
-Run:  python3 scripts/shallow-shell-roots.py     (mpmath 1.3.0; about a minute)
-Output: for nu = 0.3 and kappa in KAPPAS, lambda^2 of the lowest modes of each order n,
-labelled (n, k) as the crate labels the flat plate's modes (k counts the rigid-body root of
-n = 0 and 1 as k = 0).
+Run:  python3 scripts/shallow-shell-roots.py     (mpmath 1.3.0; about 40 s of CPU)
+Output: for nu = 0.3 and kappa in KAPPAS, lambda^2 (15 significant digits) of the lowest
+COUNTS[n] modes of each order n, labelled (n, k) as the crate labels the flat plate's modes
+(k counts the rigid-body root of n = 0 and 1 as k = 0). The unit tests of
+core/src/modal/shell_condensed_tests.rs copy these lines for kappa = 0, 5, 10, 20, 50.
 """
 
 import mpmath as mp

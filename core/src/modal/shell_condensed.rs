@@ -46,9 +46,9 @@
 //! `O(Σ_{s>N} λ_s⁴ λ_s⁻¹⁴) = O(N⁻⁹)` per angular block (`λ_s` grows like `πs`). Measured in
 //! `docs/models.md` ("Curved plates: linear modes").
 //!
-//! `m_s` in closed form: `∫₀¹ J_n(λr) rⁿ⁺¹ dr = J_{n+1}(λ)/λ` and the same for `I`
-//! (Abramowitz & Stegun 11.3.20), with `J_{n+1} = (n/x) J_n - J_n'`, `I_{n+1} = I_n' -
-//! (n/x) I_n` (A&S 9.1.27, 9.6.26).
+//! `m_s` in closed form: `∫₀¹ J_n(λr) rⁿ⁺¹ dr = J_{n+1}(λ)/λ` and the same for `I` (from
+//! `d/dx [xⁿ⁺¹ C_{n+1}(x)] = xⁿ⁺¹ C_n(x)`), with `J_{n+1} = (n/x) J_n - J_n'` and
+//! `I_{n+1} = I_n' - (n/x) I_n` (NIST DLMF §10.6 and §10.29); checked against quadrature.
 //!
 //! Threads: worker thread (allocates).
 
