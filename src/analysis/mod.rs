@@ -4,4 +4,5 @@
 pub use noether_core::analysis::*;
 
 pub mod fundamental;
+pub mod glide;
 pub mod spectrogram;

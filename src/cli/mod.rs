@@ -4,6 +4,7 @@
 mod accuracy;
 mod auto;
 mod files;
+mod glide;
 mod lab;
 mod modes;
 mod play;
@@ -39,6 +40,9 @@ pub enum Command {
     /// Choose the cheapest plate model within a tolerance of the scene's (quality = "auto"),
     /// verified against it on a short excerpt; print why, optionally write the reduced scene.
     Auto(auto::AutoArgs),
+    /// Measure the pitch glide of one partial of a WAV file in Hz/s (the opera gongs' rising
+    /// or falling fundamental), with a PNG of its track and a zoomed spectrogram.
+    Glide(glide::GlideArgs),
     /// List a plate's transverse modes: labels, dimensionless lambda^2, frequencies in Hz.
     Modes(modes::ModesArgs),
     /// Sweep every model and scheme over extreme parameters and print the summary table.
@@ -51,6 +55,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Some(Command::Accuracy(args)) => accuracy::run(args),
         Some(Command::Auto(args)) => auto::run(args),
+        Some(Command::Glide(args)) => glide::run(args),
         Some(Command::Lab(args)) => lab::run(args),
         Some(Command::Modes(args)) => modes::run(args),
         Some(Command::Play(args)) => play::run(args),
