@@ -8,7 +8,7 @@
 use super::size::ModelSize;
 use super::spectrum::{band_of, count_below, mirror_in_plane_count, strike_band, transverse};
 use crate::error::Error;
-use crate::scene::plate::{Excitation, PlateScheme, PlateSpec, Symmetry};
+use crate::scene::plate::{Excitation, PlateScheme, PlateSpec, ShapePart, Symmetry};
 use crate::scene::Scene;
 
 pub use super::ladder::{divisor_rate, Candidate, Plan, HEARING_LIMIT};
@@ -57,6 +57,24 @@ fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
             "symmetry: full (a rectangle has no strike-mirror basis)".into(),
         );
     }
+    if p.imperfection
+        .iter()
+        .any(|part| matches!(part, ShapePart::Modal { .. }))
+    {
+        return (
+            Symmetry::Full,
+            "symmetry: full: the rest shape has modal coefficients, which need not be even \
+             about the strike's diameter (the mirror basis holds only for rest shapes even about \
+             it; the axisymmetric ones are)"
+                .into(),
+        );
+    }
+    let shape_note = if p.imperfection.is_empty() {
+        ""
+    } else {
+        "; the rest shape is axisymmetric, so even about every diameter, and the mirror basis \
+         still holds exactly"
+    };
     match p.excitation {
         Excitation::Strike { at, .. }
         | Excitation::Impulse { at, .. }
@@ -67,7 +85,7 @@ fn choose_symmetry(p: &PlateSpec) -> (Symmetry, String) {
                  on a circular plate, so the motion stays even about that diameter and the \
                  mirror basis is the full model restricted to it, exactly (README \
                  \"strike-mirror\"; tests/plates/plate_mirror.rs: equal to 1e-9 of the peak); it \
-                 keeps the cos n(θ - θ_strike) modes only",
+                 keeps the cos n(θ - θ_strike) modes only{shape_note}",
                 at.angle.unwrap_or(0.0)
             ),
         ),
@@ -175,14 +193,43 @@ pub fn plan(scene: &Scene) -> Result<Plan, Error> {
     }
     reasons.push(format!(
         "in-plane ladder: 1/6, 1/3 and all of the full model's {psi_full} in-plane modes{} -> \
-         n_psi in {:?} (they shape the nonlinear stiffening only: docs/ACCURACY.md)",
+         n_psi in {:?} ({}: docs/ACCURACY.md)",
         if psi_full != p.n_psi {
             format!(" ({} in the full basis)", p.n_psi)
         } else {
             String::new()
         },
-        psis.iter().map(|b| b.1).collect::<Vec<_>>()
+        psis.iter().map(|b| b.1).collect::<Vec<_>>(),
+        if p.imperfection.is_empty() {
+            "they shape the nonlinear stiffening only"
+        } else {
+            "they shape the nonlinear terms and, on this curved plate, the linear frequencies"
+        }
     ));
+    if !p.imperfection.is_empty() {
+        reasons.push(
+            "curved plate: the rest shape's stiffness raises the modes with nodal circles above \
+             the flat bands listed here and acts through the in-plane modes, so n_psi also sets \
+             those linear frequencies (docs/models.md, \"Curved plates\"); the verification \
+             below measures both against the full model"
+                .into(),
+        );
+    }
+    let modal_len = p
+        .imperfection
+        .iter()
+        .map(|part| match part {
+            ShapePart::Modal { coefficients } => coefficients.len(),
+            _ => 0,
+        })
+        .max()
+        .unwrap_or(0);
+    if modal_len > 0 {
+        reasons.push(format!(
+            "rest shape: its {modal_len} modal coefficients need n_phi >= {modal_len}; smaller \
+             candidates are left out"
+        ));
+    }
     let exact = exact_linear(p.scheme);
     reasons.push(if exact {
         format!(
@@ -201,7 +248,7 @@ pub fn plan(scene: &Scene) -> Result<Plan, Error> {
         )
     });
     let mut candidates = Vec::new();
-    for &(bf, n_phi) in &bands {
+    for &(bf, n_phi) in bands.iter().filter(|b| b.1 >= modal_len) {
         let f_max = band_of(&basis, n_phi, mirror);
         let mut rates = vec![p.sim_rate];
         if exact {
