@@ -350,3 +350,36 @@ fn a_tight_tolerance_keeps_the_full_string_model() {
     assert!(report.candidates.iter().all(|c| c.lsd_db > 1e-9));
     assert_eq!(reduced.string, full(&s).string);
 }
+
+/// A curved disc: an axisymmetric rest shape keeps the mirror basis (even about every
+/// diameter), modal coefficients keep the full basis and every candidate keeps their modes.
+#[test]
+fn mirror_holds_for_axisymmetric_rest_shapes_only() {
+    let cap = format!("{DISC}\nimperfection = {{ kind = \"spherical\", rise = 0.003 }}");
+    let p = plan(&scene(&cap, "conservative-exact", STRIKE, 1.0)).unwrap();
+    assert_eq!(p.symmetry, Symmetry::StrikeMirror);
+    assert!(
+        p.reasons.iter().any(|r| r.contains("axisymmetric")),
+        "{:?}",
+        p.reasons
+    );
+    let modal = format!(
+        "{DISC}\nimperfection = {{ kind = \"modal\", coefficients = [0.0, 0.0, 0.002, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.001] }}"
+    );
+    let p = plan(&scene(&modal, "conservative-exact", STRIKE, 1.0)).unwrap();
+    assert_eq!(p.symmetry, Symmetry::Full);
+    assert!(
+        p.reasons.iter().any(|r| r.contains("modal coefficients")),
+        "{:?}",
+        p.reasons
+    );
+    assert!(!p.candidates.is_empty());
+    assert!(
+        p.candidates.iter().all(|c| c.size.n_phi >= 20),
+        "{:?}",
+        p.candidates
+            .iter()
+            .map(|c| c.size.n_phi)
+            .collect::<Vec<_>>()
+    );
+}
