@@ -504,16 +504,16 @@ fn simulated_backbone_follows_the_normal_form() {
     }
 }
 
-/// The `κ` of the (0,2) mode's 2:1 internal resonance, `ω_(0,2) = 2 ω_(0,1)`, and the end
-/// of the hardening window just past it (the normal form's `T` comes down from `+∞` and
-/// crosses zero).
-fn resonance_window(modes: &PlateModes) -> (f64, f64) {
+/// The `κ` in `[lo, hi]` of the 2:1 internal resonance `ω_m = 2ω` of the `m`-th shell mode
+/// (axisymmetric, `m = 1` the (0,2) mode) and the end of the hardening window just past it
+/// (the normal form's `T` comes down from `+∞` and crosses zero).
+fn resonance_window(modes: &PlateModes, m: usize, lo: f64, hi: f64) -> (f64, f64) {
     let ratio = |k: f64| {
         let axi = Axi::new(modes, k);
-        axi.omega_shell[1] / axi.omega_shell[0] - 2.0
+        axi.omega_shell[m] / axi.omega_shell[0] - 2.0
     };
-    let k_res = sign_change(5.0, 7.0, 1e-9, ratio);
-    let k_end = sign_change(k_res * (1.0 + 1e-6), 7.0, 1e-6, |k| {
+    let k_res = sign_change(lo, hi, 1e-9, ratio);
+    let k_end = sign_change(k_res * (1.0 + 1e-7), hi, 1e-7, |k| {
         Axi::new(modes, k).t_normal_form()
     });
     (k_res, k_end)
@@ -557,7 +557,7 @@ fn type_changes_where_the_normal_form_says() {
         below, above
     );
     assert!((k1 / kn - 1.0).abs() < 0.01 && below > 0.0 && above < 0.0);
-    let (k_res, k_end) = resonance_window(&modes);
+    let (k_res, k_end) = resonance_window(&modes, 1, 5.0, 7.0);
     let mid = 0.5 * (k_res + k_end);
     let axi = Axi::new(&modes, mid);
     let tm = measured_t(&axi, 0.002, 60.0, 400.0, Start::Manifold);
@@ -570,49 +570,6 @@ fn type_changes_where_the_normal_form_says() {
     assert!(tn > 0.0 && tm > 0.0 && t1 < 0.0, "{t1} {tn} {tm}");
 }
 
-/// The table of `docs/models.md` ("Curved plates: the backbone"): for each `κ`, `ω`,
-/// `|α̃| = |α| TH`, `Γ̃ = Γ TH²`, `T̃ = T TH²` single-mode, normal form and measured (started
-/// on the manifold, and plainly), and the sign changes by bisection.
-/// `cargo test --test plates plate_shell_backbone::table -- --ignored --nocapture`.
-#[test]
-#[ignore = "prints the table of docs/models.md (a few seconds)"]
-fn table() {
-    let modes = basis(160, 80);
-    println!("| κ | ω | ω_m/ω nearest 2 | α̃ | Γ̃ | T̃ single mode | T̃ normal form | T̃ model | T̃ model, plain start | type |");
-    println!("|---|---|---|---|---|---|---|---|---|---|");
-    for kappa in [0.0, 1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 15.0, 20.0, 30.0, 50.0] {
-        let axi = Axi::new(&modes, kappa);
-        let (w, alpha, gamma) = axi.single_mode();
-        let t1 = t_single(w, alpha, gamma) * TH * TH;
-        let tn = axi.t_normal_form() * TH * TH;
-        let a1 = (2e-4 / tn.abs()).sqrt().clamp(0.002, 0.3);
-        let tm = measured_t(&axi, a1, 60.0, 400.0, Start::Manifold);
-        let tp = measured_t(&axi, a1, 60.0, 400.0, Start::Plain);
-        let near = axi.omega_shell[1..]
-            .iter()
-            .map(|&wm| wm / w)
-            .min_by(|x, y| (x - 2.0).abs().total_cmp(&(y - 2.0).abs()))
-            .unwrap();
-        let kind = if tm > 0.0 { "hardening" } else { "softening" };
-        println!(
-            "| {kappa} | {w:.3} | {near:.3} | {:.1} | {:.2} | {t1:.4} | {tn:.4} | {tm:.4} | {tp:.4} | {kind} |",
-            (alpha * TH).abs(),
-            gamma * TH * TH
-        );
-    }
-    let single = |k: f64| {
-        let (w, a, g) = Axi::new(&modes, k).single_mode();
-        t_single(w, a, g)
-    };
-    let k1 = sign_change(0.5, 3.0, 1e-4, single);
-    let kn = sign_change(0.5, 3.0, 1e-4, |k| Axi::new(&modes, k).t_normal_form());
-    let km = sign_change(0.5, 3.0, 2e-3, |k| {
-        measured_t(&Axi::new(&modes, k), 0.2, 60.0, 400.0, Start::Manifold)
-    });
-    println!("sign change: single mode κ = {k1:.4}, normal form {kn:.4}, model {km:.4}");
-    let (k_res, k_end) = resonance_window(&modes);
-    let km = sign_change(k_res * (1.0 + 1e-6), 7.0, 1e-4, |k| {
-        measured_t(&Axi::new(&modes, k), 0.002, 60.0, 400.0, Start::Manifold)
-    });
-    println!("(0,2) 2:1 resonance κ = {k_res:.5}; hardening up to {k_end:.5} (normal form), {km:.5} (model)");
-}
+/// The table and figure of `docs/models.md` (ignored tests).
+#[path = "plate_shell_backbone_table.rs"]
+mod table;
