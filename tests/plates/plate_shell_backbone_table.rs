@@ -10,7 +10,7 @@ use noether::plot::{write_png, Mark, Panel, Series};
 /// on the manifold, and plainly), and the sign changes by bisection.
 /// `cargo test --test plates plate_shell_backbone::table -- --ignored --nocapture`.
 #[test]
-#[ignore = "prints the table of docs/models.md (a few seconds)"]
+#[ignore = "prints the table of docs/models.md (about 15 s)"]
 fn table() {
     let modes = basis(160, 80);
     println!("| κ | ω | ω_m/ω nearest 2 | α̃ | Γ̃ | T̃ single mode | T̃ normal form | T̃ model | T̃ model, plain start | type |");
