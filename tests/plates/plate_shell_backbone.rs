@@ -23,9 +23,9 @@
 //! + 2 Ĥ(v,V_m)_l B_l)` (`g_p = α`). The invariant manifold `y_m = a_m R² + b_m Ṙ²`,
 //! `b_m = 2g_m/(ω_m²(ω_m² - 4ω²))`, `a_m = -(ω_m² - 2ω²) b_m/2`, leaves
 //! `R̈ + ω²R + (Γ + 2Σ_m g_m a_m) R³ + 2Σ_m g_m b_m R Ṙ² = 0`, whence
-//! `T = [3Γ + Σ_m 2g_m² (8ω² - 3ω_m²)/(ω_m²(ω_m² - 4ω²))]/(8ω²)` (Touzé, Thomas & Chaigne 2004,
-//! sec. 4; the `m = p` term is the single mode's `-5α²/(12ω⁴)`). Only axisymmetric modes have
-//! `g_m ≠ 0`.
+//! `T = [3Γ + Σ_m 2g_m² (8ω² - 3ω_m²)/(ω_m²(ω_m² - 4ω²))]/(8ω²)` (the normal-form
+//! reduction of Touzé, Thomas & Chaigne 2004, derived here for this potential; the `m = p`
+//! term is the single mode's `-5α²/(12ω⁴)`). Only axisymmetric modes have `g_m ≠ 0`.
 //!
 //! **Full model.** An axisymmetric start stays axisymmetric (the selection rules zero every
 //! coupling from `n = 0` modes into the others), so the model runs on the `n = 0` modes of the
