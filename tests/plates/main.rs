@@ -22,5 +22,6 @@ mod plate_render;
 mod plate_sav;
 mod plate_scheme;
 mod plate_shell;
+mod plate_shell_backbone;
 mod plate_shell_scene;
 mod plate_single;
