@@ -239,7 +239,10 @@ pub fn shell_stiffness(
         }
         CapCoupling::Direct => direct_coupling(modes, imperfection),
         CapCoupling::InPlaneExact => {
-            return Ok(condensed::in_plane_exact_stiffness(modes, imperfection))
+            return Ok(condensed::in_plane_exact_stiffness(
+                modes,
+                imperfection.kappa(),
+            ))
         }
     };
     let c = 12.0 * (1.0 - modes.spec.nu * modes.spec.nu);

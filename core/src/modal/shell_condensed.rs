@@ -52,7 +52,6 @@
 //!
 //! Threads: worker thread (allocates).
 
-use super::Imperfection;
 use crate::modal::circular::bessel::{bessel_i_scaled, bessel_j};
 use crate::modal::circular::{PlateModes, RadialFunction};
 
@@ -87,15 +86,9 @@ pub(super) fn harmonic_overlap(radial: &RadialFunction) -> f64 {
 }
 
 /// The row-major `N_Φ × N_Φ` stiffness `K_st = λ_s⁴ δ_st + μ (δ_st - p_s p_t)` (entries for
-/// equal `n` and parity only; `μ = 12(1-ν²)κ²`; dimensionless, units of `D/(ρh a⁴)`).
-/// Worker thread.
-pub(super) fn in_plane_exact_stiffness(
-    modes: &PlateModes,
-    imperfection: &Imperfection,
-) -> Vec<f64> {
-    let kappa = match *imperfection {
-        Imperfection::SphericalCap { kappa } => kappa,
-    };
+/// equal `n` and parity only; `μ = 12(1-ν²)κ²`; dimensionless, units of `D/(ρh a⁴)`) of the
+/// spherical cap of curvature parameter `kappa` (`a²/(R h)`). Worker thread.
+pub(super) fn in_plane_exact_stiffness(modes: &PlateModes, kappa: f64) -> Vec<f64> {
     let nu = modes.spec.nu;
     let mu = 12.0 * (1.0 - nu * nu) * kappa * kappa;
     let p = harmonic_overlaps(modes);

@@ -9,24 +9,8 @@ use crate::error::{check_closed, ParamError};
 use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
 
-/// Plate geometry and boundary conditions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum PlateShape {
-    /// Circular plate, free edge (gong); in-plane Airy modes of clamped type.
-    CircularFree,
-    /// Circular plate, clamped edge (cymbal-like plate held at its rim).
-    CircularClamped,
-    /// Rectangular plate, simply supported, in-plane edges free of stress.
-    RectSs,
-}
-
-impl PlateShape {
-    /// Whether the shape is circular (positions given as `r`, `angle`).
-    pub fn is_circular(self) -> bool {
-        !matches!(self, PlateShape::RectSs)
-    }
-}
+/// Plate geometry and boundary conditions (its own leaf module, re-exported here).
+pub use super::shape::PlateShape;
 
 /// Time scheme of the plate (`plate.scheme`): the model's own enumeration.
 pub use super::params::PlateScheme;

@@ -10,7 +10,7 @@
 use super::basis::{BasisKey, ModalCache};
 use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
-use super::{rest_shape, LinearSolve, Mallet, PlateModel, PlateParams};
+use super::{rest_projection, LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
 use crate::modal::CouplingTensor;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
@@ -190,7 +190,8 @@ impl PlateVoice {
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(scoped)?;
         if !scene.imperfection.is_empty() && !linear_only {
-            let rest = rest_shape::project(&scene.imperfection, &basis, scene.shape, a, aspect);
+            let rest =
+                rest_projection::project(&scene.imperfection, &basis, scene.shape, a, aspect);
             model.set_rest_shape(&rest).map_err(scoped)?;
         }
         if let Some((q0, v0)) = initial_state {

@@ -42,59 +42,6 @@ use super::PlateModel;
 use crate::error::{check_finite, ParamError};
 use crate::models::plate::coupling::ModalCoupling;
 
-/// The rest shape's state and scratch (all allocated with the model; audio thread).
-#[derive(Debug, Clone)]
-pub(super) struct RestShape {
-    /// Whether a nonzero rest shape is set (a flat plate runs the flat code, bit for bit).
-    pub on: bool,
-    /// `a_k` (units of `q`, m²), length `N_Φ`.
-    pub a: Vec<f64>,
-    /// `c_l = Ĥ(a, a)_l`, length `N_Ψ`.
-    pub c: Vec<f64>,
-    /// `σ_l = (Gᵀ a)_l - c_l` for the current step's `G`, length `N_Ψ`.
-    pub shift: Vec<f64>,
-    /// `r = q(n) + a`, length `N_Φ`.
-    pub r: Vec<f64>,
-}
-
-impl RestShape {
-    /// A flat plate's (zero) rest shape, sized for `n_phi` and `n_psi` modes (worker thread).
-    pub fn flat(n_phi: usize, n_psi: usize) -> Self {
-        Self {
-            on: false,
-            a: vec![0.0; n_phi],
-            c: vec![0.0; n_psi],
-            shift: vec![0.0; n_psi],
-            r: vec![0.0; n_phi],
-        }
-    }
-
-    /// `r = q + a`.
-    #[inline]
-    pub fn fill_r(&mut self, q: &[f64]) {
-        for ((r, &q), &a) in self.r.iter_mut().zip(q).zip(&self.a) {
-            *r = q + a;
-        }
-    }
-
-    /// `σ = Gᵀ a - c` from the row-major `N_Φ × N_Ψ` matrix `g`.
-    #[inline]
-    pub fn update_shift(&mut self, g: &[f64]) {
-        let np = self.shift.len();
-        self.shift.copy_from_slice(&self.c);
-        for s in &mut self.shift {
-            *s = -*s;
-        }
-        for (grow, &a) in g.chunks_exact(np.max(1)).zip(&self.a) {
-            if a != 0.0 {
-                for (sl, &gv) in self.shift.iter_mut().zip(grow) {
-                    *sl += gv * a;
-                }
-            }
-        }
-    }
-}
-
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// Sets the static rest shape `w0 = Σ_k a_k Φ_k` (`a` in units of `q`, m², length `N_Φ`;
     /// all zeros for the flat plate, which then runs exactly the flat plate's arithmetic).
