@@ -24,7 +24,7 @@ use noether_testkit::harness::{check, plate_catalogue, plate_spec};
 #[test]
 fn single_storage_catalogue_conserves_like_double() {
     let cases = plate_catalogue(TensorStorage::Single);
-    assert_eq!(cases.len(), 24);
+    assert_eq!(cases.len(), 36);
     for case in &cases {
         let o = check(case);
         eprintln!("{o}");

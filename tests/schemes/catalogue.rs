@@ -15,17 +15,17 @@ use noether_testkit::harness::{
 
 #[test]
 fn circular_free_plates() {
-    assert_eq!(check_family(Family::CircularFree).len(), 8);
+    assert_eq!(check_family(Family::CircularFree).len(), 12);
 }
 
 #[test]
 fn circular_clamped_plates() {
-    assert_eq!(check_family(Family::CircularClamped).len(), 8);
+    assert_eq!(check_family(Family::CircularClamped).len(), 12);
 }
 
 #[test]
 fn rectangular_plates() {
-    assert_eq!(check_family(Family::Rectangle).len(), 8);
+    assert_eq!(check_family(Family::Rectangle).len(), 12);
 }
 
 #[test]
@@ -39,7 +39,8 @@ fn oscillators() {
 }
 
 /// The catalogue's names are unique, and its plates cover both linear-solve routes of the
-/// conservative schemes (Woodbury when `N_Ψ < N_Φ`, direct otherwise) and every scheme.
+/// conservative schemes (Woodbury when `N_Ψ < N_Φ`, direct otherwise) and every scheme, flat
+/// and curved (three shapes × three cases per scheme).
 #[test]
 fn catalogue_covers_routes_and_schemes() {
     let cases = catalogue();
@@ -52,7 +53,7 @@ fn catalogue_covers_routes_and_schemes() {
         let name = format!("/{}/", scheme.name());
         assert_eq!(
             cases.iter().filter(|c| c.name.contains(&name)).count(),
-            6,
+            9,
             "{name}"
         );
     }

@@ -30,7 +30,8 @@
 
 use crate::env::test_cache_dir;
 use noether_core::models::plate::spec::{
-    Damping, Excitation, PlateScheme, PlateShape, PlateSpec, Position, Symmetry, TensorStorage,
+    Damping, Excitation, PlateScheme, PlateShape, PlateSpec, Position, ShapePart, Symmetry,
+    TensorStorage,
 };
 use noether_core::models::plate::voice::PlateVoice;
 use noether_core::models::source::{ContactSummary, EnergyTerms, ModelDetails, RenderSource};
