@@ -92,6 +92,10 @@ pub struct PlateDetails {
     pub scheme: String,
     /// Modal subspace, as spelled in scenes (`full` or `strike-mirror`).
     pub symmetry: String,
+    /// The rest shape's parts as the scene gave them (`plate.imperfection`; empty: flat, and
+    /// left out of the report).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub imperfection: Vec<crate::models::plate::rest_shape::ShapePart>,
 }
 
 /// Contact-solver figures of a string over a run, for reports.

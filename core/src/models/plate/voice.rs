@@ -214,6 +214,11 @@ impl PlateVoice {
             modal_seconds,
             scheme: scene.scheme.name().into(),
             symmetry: scene.symmetry.name().into(),
+            imperfection: if linear_only {
+                Vec::new()
+            } else {
+                scene.imperfection.clone()
+            },
         };
         Ok(Self {
             model,
