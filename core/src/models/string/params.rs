@@ -9,7 +9,10 @@
 //! Everything here is built and validated on a control thread; the audio thread only reads the
 //! validated values copied into the model.
 
-use crate::error::{check_non_negative, check_positive, ParamError};
+use crate::error::{check_closed, check_non_negative, ParamError};
+use crate::models::ranges::{
+    STRING_INHARMONICITY, STRING_LENGTH, STRING_LINEAR_DENSITY, STRING_TENSION,
+};
 use std::f64::consts::PI;
 
 /// Largest accepted number of grid intervals `N` (a bound so that build-time allocation and the
@@ -86,9 +89,12 @@ impl StringParams {
 
     /// Checks every field; the error names the field, the value and the allowed range.
     pub fn validate(&self) -> Result<(), ParamError> {
-        check_positive("length", self.length)?;
-        check_positive("tension", self.tension)?;
-        check_positive("linear_density", self.linear_density)?;
+        // The ranges scenes and presets use (`crate::models::ranges`): outside them the
+        // derived quantities can overflow or underflow (a 1e308 m string at 1e-310 N and a
+        // rate of 1e-307 Hz passes every finiteness check yet steps to NaN).
+        STRING_LENGTH.check("length", self.length)?;
+        STRING_TENSION.check("tension", self.tension)?;
+        STRING_LINEAR_DENSITY.check("linear_density", self.linear_density)?;
         match self.stiffness {
             Stiffness::BendingStiffness(ei) => {
                 check_non_negative("bending_stiffness", ei)?;
@@ -105,14 +111,19 @@ impl StringParams {
                 format!("integer in [2, {MAX_INTERVALS}]"),
             ));
         }
-        check_positive("sample_rate", self.sample_rate)?;
+        // Wider than scenes' `STRING_SIM_RATE`: convergence studies run the exact scheme up to
+        // tens of MHz; what must be refused is a rate whose step overflows the phases.
+        check_closed("sample_rate", self.sample_rate, 1.0, 1e10)?;
         // Derived quantities must be finite too (for example a huge EI with a tiny T).
         let b = self.inharmonicity();
-        if !b.is_finite() {
+        if !(b.is_finite() && b <= STRING_INHARMONICITY.max) {
             return Err(ParamError::new(
                 "bending_stiffness",
                 self.bending_stiffness(),
-                "value giving a finite inharmonicity π²EI/(TL²)",
+                format!(
+                    "value giving an inharmonicity π²EI/(TL²) of at most {}",
+                    STRING_INHARMONICITY.max
+                ),
             ));
         }
         if !self.omega(self.modes()).is_finite() {
