@@ -12,6 +12,7 @@ mod engine;
 mod engine_alloc;
 mod engine_hand;
 mod engine_mallet;
+mod engine_shape;
 mod engine_threads;
 mod extreme_levels;
 mod per_note;

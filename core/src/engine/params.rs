@@ -244,6 +244,12 @@ params! {
         "Plates, exciter 'mallet': impact speed at velocity 1; speed = value times velocity^curve (and the mod wheel as for the force).";
     MalletHead, "mallet_head", "Mallet head", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MALLET_HEAD_NAMES }, false,
         "Plates, exciter 'mallet': 'custom' uses the mass and hardness above; a factory head (soft felt, hard felt, rubber, wood, metal) brings its own mass, contact law and felt loss (docs/models.md, factory mallets).";
+    Dome, "dome", "Dome rise", "thicknesses", 0.0, 50.0, 0.0, F, false,
+        "Plates: the rest shape's dome, its rise in plate thicknesses h (0: flat). Circular: a spherical cap w0 = rise (1 - r^2), curvature kappa = a^2/(R h) = 2 rise/h; rectangle: 16 rise x(1-x) y(1-y). Raises the modes with nodal circles and makes the sound soften (pitch rises as it decays); needs in-plane modes, and the conservative-exact scheme integrates it accurately.";
+    Boss, "boss", "Boss height", "thicknesses", 0.0, 50.0, 0.0, F, false,
+        "Circular plates: a raised centre boss (a gong's boss, a cymbal's bell) of this height in plate thicknesses, w0 = height cos^2(pi r / 2b) inside the boss radius b; 0: none. Added to the dome.";
+    BossRadius, "boss_radius", "Boss radius", "", 0.05, 0.6, 0.2, F, true,
+        "Circular plates: the boss's base radius b as a fraction of the plate's radius (the boss's projection on the modes is rebuilt).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

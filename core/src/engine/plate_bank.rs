@@ -17,6 +17,8 @@ use super::voice::{
 use crate::error::ParamError;
 use crate::modal::TensorStorage;
 use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
+use crate::models::plate::rest_projection::project;
+use crate::models::plate::rest_shape::ShapePart;
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
 use std::f64::consts::PI;
@@ -109,6 +111,37 @@ fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
     }
 }
 
+/// The rest shapes per unit rise on the unit plate, `(dome, boss)`, projected on every mode of
+/// `basis` ([`project`] at size 1 and rise 1: a note of size `L` and thickness `h` takes
+/// `a = L h (dome · â_dome + boss · â_boss)` with the rises in thicknesses): the spherical cap
+/// `1 - r²` and the boss `cos²(π r / 2b)` of the `boss_radius` parameter's `b` on circular
+/// plates (both axisymmetric: the strike-mirror basis holds them exactly); the dome
+/// `16 ξ(1-ξ) η(1-η)` and no boss (zeros) on the rectangle. Worker thread.
+fn unit_shapes(
+    kind: ModelKind,
+    shape: PlateShape,
+    basis: &PlateBasis,
+    v: &ParamValues,
+) -> (Vec<f64>, Vec<f64>) {
+    let aspect = v.get(ParamId::Aspect) as f64;
+    if kind == ModelKind::RectPlate {
+        let dome = project(&[ShapePart::Dome { rise: 1.0 }], basis, shape, 1.0, aspect);
+        return (dome, vec![0.0; basis.n_phi()]);
+    }
+    let cap = ShapePart::Spherical {
+        rise: Some(1.0),
+        curvature_radius: None,
+    };
+    let boss = ShapePart::Boss {
+        rise: 1.0,
+        radius: v.get(ParamId::BossRadius) as f64,
+    };
+    (
+        project(&[cap], basis, shape, 1.0, aspect),
+        project(&[boss], basis, shape, 1.0, aspect),
+    )
+}
+
 /// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate` (see the module doc).
 pub(crate) fn plate_voices(
     kind: ModelKind,
@@ -129,6 +162,7 @@ pub(crate) fn plate_voices(
     let key = BasisKey::new(shape, m.poisson, aspect, modes, n_psi, symmetry)?;
     let basis = cache.basis(&key)?;
     let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
+    let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
     let data = Arc::new(PlateData {
         lambda2: basis.lambda2().to_vec(),
         zeta4: basis.zeta4().to_vec(),
@@ -138,6 +172,8 @@ pub(crate) fn plate_voices(
         poisson: m.poisson,
         tiers: tiers.clone(),
         band_hz: v.get(ParamId::BandLimit) as f64,
+        shape_dome,
+        shape_boss,
     });
     let scheme = match v.index_of(ParamId::Scheme) {
         0 => PlateScheme::ConservativeTheta1,

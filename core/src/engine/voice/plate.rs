@@ -99,6 +99,11 @@ pub(crate) struct PlateData {
     pub tiers: Vec<(usize, usize)>,
     /// Band limit (Hz): a note keeps the modes up to it.
     pub band_hz: f64,
+    /// The dome's rest shape per unit rise on the unit plate, every mode (dimensionless;
+    /// `a_k = L h · dome · shape_dome_k`, [`shape`]).
+    pub shape_dome: Vec<f64>,
+    /// The boss's, likewise (zeros on the rectangle).
+    pub shape_boss: Vec<f64>,
 }
 
 /// The tier ladder for a budget of `n_phi` transverse and `n_psi` in-plane modes (`n_psi` 0:
@@ -163,12 +168,17 @@ pub(crate) struct PlateVoice {
     pub mallet: VoiceMallet,
     /// Simulation rate (Hz).
     pub fs: f64,
+    /// The rest shape's scratch `a_k` (m², every mode) and the amplitudes `(L h dome, L h
+    /// boss)` (m²) last set on each tier's model ([`shape`]).
+    rest: Vec<f64>,
+    rest_set: Vec<(f64, f64)>,
 }
 
 impl PlateVoice {
     /// Wraps the tier models (worker thread; allocates the scratch).
     pub fn new(models: Vec<PlateModel<CouplingTensor>>, data: Arc<PlateData>, fs: f64) -> Self {
         let (nf, np) = (data.lambda2.len(), data.zeta4.len());
+        let tiers_n = data.tiers.len();
         Self {
             models,
             tier: 0,
@@ -190,6 +200,8 @@ impl PlateVoice {
             strike_step: 0,
             mallet: VoiceMallet::default(),
             fs,
+            rest: vec![0.0; nf],
+            rest_set: vec![(0.0, 0.0); tiers_n],
         }
     }
 
@@ -443,6 +455,7 @@ impl PlateVoice {
             )
             .is_ok();
         if ok {
+            self.set_shape(v, a, h);
             self.size = a;
             self.rho_h = rho_h;
             self.write_weights(a);
@@ -551,6 +564,7 @@ impl PlateVoice {
 }
 
 mod hand;
+mod shape;
 
 #[cfg(test)]
 mod tests {

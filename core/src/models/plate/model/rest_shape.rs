@@ -59,8 +59,10 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 format!("n_phi = {nf}"),
             ));
         }
-        for (k, &x) in a.iter().enumerate() {
-            check_finite(&format!("rest_shape[{k}]"), x)?;
+        // The field name is formatted on the error path only (the success path allocates
+        // nothing: the engine calls this on the audio thread).
+        if let Some(k) = a.iter().position(|x| !x.is_finite()) {
+            check_finite(&format!("rest_shape[{k}]"), a[k])?;
         }
         let rest = &mut self.rest;
         rest.a.copy_from_slice(a);
