@@ -308,9 +308,8 @@ impl NoetherParams {
 pub fn group_of(id: ParamId) -> &'static str {
     use ParamId::*;
     match id {
-        Model | Size | Thickness | Aspect | Material | YoungsModulus | Density | Poisson => {
-            "Model and material"
-        }
+        Model | Size | Thickness | Aspect | Dome | Boss | BossRadius | Material | YoungsModulus
+        | Density | Poisson => "Model and material",
         DampingScale | DampingA | DampingB | DampingC0 | ReleaseT60 => "Damping and release",
         StrikeRadius | StrikeAngle | StrikeDuration | StrikeForce | VelocityCurve
         | PluckPosition | PluckAmplitude | Exciter | MalletHead | MalletMass | MalletHardness

@@ -41,6 +41,9 @@ const SECTIONS: [Section; 7] = {
                 Size,
                 Thickness,
                 Aspect,
+                Dome,
+                Boss,
+                BossRadius,
                 Material,
                 YoungsModulus,
                 Density,
@@ -159,6 +162,9 @@ pub fn relevant(id: ParamId, c: Choices) -> bool {
         // A factory head brings its own mass and law.
         MalletMass | MalletHardness => mallet && c.head == 0,
         Aspect => model == 2,
+        // The rest shape: a dome on every plate, the centre boss on the circular ones.
+        Dome => plate,
+        Boss | BossRadius => model <= 1,
         Tension | LinearDensity | Inharmonicity | BridgePosition | ContactStiffness
         | ContactAlpha | PluckPosition | PluckAmplitude => string,
         BridgeCurvature => model == 3,
@@ -464,6 +470,11 @@ mod tests {
         assert!(!relevant(ParamId::MalletMass, wood));
         assert!(!relevant(ParamId::MalletHardness, wood));
         assert!(relevant(ParamId::MalletHead, wood));
+        // The curved plate: the dome on every plate, the boss on circular plates only.
+        assert!(relevant(ParamId::Dome, gong) && relevant(ParamId::Boss, gong));
+        let rect = Choices { model: 2, ..gong };
+        assert!(relevant(ParamId::Dome, rect) && !relevant(ParamId::BossRadius, rect));
+        assert!(!relevant(ParamId::Dome, sitar) && !relevant(ParamId::Boss, sitar));
         // Every parameter sits in some section.
         for info in noether_core::engine::PARAMS {
             assert!(
