@@ -96,6 +96,20 @@ const FACTORY: &[(&str, &str)] = &[
         "tanpura-b0",
         include_str!("../../../assets/presets/tanpura-b0.toml"),
     ),
+    (
+        "opera-gong-rising",
+        include_str!("../../../assets/presets/opera-gong-rising.toml"),
+    ),
+    (
+        "opera-gong-falling",
+        include_str!("../../../assets/presets/opera-gong-falling.toml"),
+    ),
+    (
+        "tam-tam",
+        include_str!("../../../assets/presets/tam-tam.toml"),
+    ),
+    ("crash", include_str!("../../../assets/presets/crash.toml")),
+    ("ride", include_str!("../../../assets/presets/ride.toml")),
 ];
 
 /// `x` as the f64 whose shortest decimal text is the f32's shortest text (so a saved preset
