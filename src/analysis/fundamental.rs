@@ -13,15 +13,25 @@ use std::f64::consts::PI;
 /// (allocates).
 pub fn band_near(x: &[f64], rate: f64, f: f64, half_band: f64) -> Vec<f64> {
     let n = x.len();
+    band_near_windowed(x, rate, f, half_band, |k| {
+        0.5 - 0.5 * (2.0 * PI * k as f64 / n as f64).cos()
+    })
+}
+
+/// [`band_near`] under the window `window(k)` (sample `k` of `x.len()`) instead of Hann.
+/// Offline (allocates).
+pub fn band_near_windowed(
+    x: &[f64],
+    rate: f64,
+    f: f64,
+    half_band: f64,
+    window: impl Fn(usize) -> f64,
+) -> Vec<f64> {
+    let n = x.len();
     let mut buf: Vec<Complex<f64>> = x
         .iter()
         .enumerate()
-        .map(|(k, &v)| {
-            Complex::new(
-                v * (0.5 - 0.5 * (2.0 * PI * k as f64 / n as f64).cos()),
-                0.0,
-            )
-        })
+        .map(|(k, &v)| Complex::new(v * window(k), 0.0))
         .collect();
     let mut planner = FftPlanner::new();
     planner.plan_fft_forward(n).process(&mut buf);

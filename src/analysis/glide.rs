@@ -13,7 +13,7 @@
 //! Offline (allocates).
 
 use super::frequency::measure;
-use rustfft::{num_complex::Complex, FftPlanner};
+use super::fundamental::band_near_windowed;
 
 /// A partial's frequency over time.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -93,28 +93,14 @@ pub fn track_partial(
 fn band_mask(x: &[f64], rate: f64, f: f64, half_band: f64) -> Vec<f64> {
     let n = x.len();
     let taper = (n / 50).max(1);
-    let w = |k: usize| {
+    band_near_windowed(x, rate, f, half_band, |k| {
         let e = k.min(n - 1 - k);
         if e >= taper {
             1.0
         } else {
             0.5 - 0.5 * (std::f64::consts::PI * e as f64 / taper as f64).cos()
         }
-    };
-    let mut buf: Vec<Complex<f64>> = x
-        .iter()
-        .enumerate()
-        .map(|(k, &v)| Complex::new(v * w(k), 0.0))
-        .collect();
-    let mut planner = FftPlanner::new();
-    planner.plan_fft_forward(n).process(&mut buf);
-    for (k, b) in buf.iter_mut().enumerate() {
-        if ((k.min(n - k) as f64 * rate / n as f64) - f).abs() > half_band {
-            *b = Complex::new(0.0, 0.0);
-        }
-    }
-    planner.plan_fft_inverse(n).process(&mut buf);
-    buf.iter().map(|c| c.re / n as f64).collect()
+    })
 }
 
 /// The least-squares line through `track` over `[from, to]` seconds; `None` with fewer than

@@ -81,8 +81,8 @@ fn fundamental_axisymmetric(modes: &PlateModes, kappa: f64) -> (f64, Vec<f64>) {
 }
 
 /// Pulsation (rad/s) of `x(n)` from its upward zero crossings (linear interpolation), over
-/// whole periods.
-fn pulsation(x: &[f64], h: f64) -> f64 {
+/// whole periods. Shared with `plate_shell_backbone.rs`.
+pub(crate) fn pulsation(x: &[f64], h: f64) -> f64 {
     let ups: Vec<f64> = x
         .windows(2)
         .enumerate()

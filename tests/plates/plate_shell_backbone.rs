@@ -33,6 +33,7 @@
 
 use std::sync::Arc;
 
+use crate::plate_shell::pulsation;
 use faer::{Mat, Side};
 use noether::modal::circular::{CircularEdge, Parity, PlateModes};
 use noether::modal::shell::{shell_stiffness, CapCoupling, Imperfection};
@@ -268,19 +269,6 @@ enum Start {
     /// On the normal form's invariant manifold: `y_p = x0 + a_p x0²`, `y_m = a_m x0²` (the
     /// velocity term `b_m Ṙ²` vanishes at rest), so the other modes only follow `p`.
     Manifold,
-}
-
-/// Pulsation (rad/s) of `x(n)` from its upward zero crossings (linear interpolation), over
-/// whole periods.
-fn pulsation(x: &[f64], h: f64) -> f64 {
-    let ups: Vec<f64> = x
-        .windows(2)
-        .enumerate()
-        .filter(|(_, w)| w[0] < 0.0 && w[1] >= 0.0)
-        .map(|(i, w)| (i as f64 + w[0] / (w[0] - w[1])) * h)
-        .collect();
-    let periods = (ups.len() - 1) as f64;
-    std::f64::consts::TAU * periods / (ups[ups.len() - 1] - ups[0])
 }
 
 /// Single-mode `T = 3Γ/(8ω²) - 5α²/(12ω⁴)`.
