@@ -15,7 +15,9 @@
 //! `GONG_RTF_WARM` and `GONG_RTF_SECONDS` (s) change the 0.1 s and 0.5 s (for profiling under
 //! callgrind with a few steps). `GONG_RTF_SYMMETRY` (`full`, default, or `strike-mirror`) and
 //! `GONG_RTF_STORAGE` (`double`, default, or `single`) set the scene's `plate.symmetry` and
-//! `plate.tensor_storage`.
+//! `plate.tensor_storage`. `GONG_RTF_THREADS=2` shares each `sav` step between this thread and
+//! a helper (`render::step_join::SpinJoin`); the thread-CPU columns then count this thread only,
+//! so read the wall-time RTF (on an otherwise idle machine).
 
 use std::time::{Duration, Instant};
 
@@ -119,6 +121,11 @@ fn main() {
             }
         };
         let mut v = voice(scheme, fs, n_phi, n_psi);
+        if std::env::var("GONG_RTF_THREADS").is_ok_and(|t| t == "2") {
+            let join = noether::render::step_join::SpinJoin::new().expect("a helper thread");
+            let on = v.set_step_join(Some(std::sync::Arc::new(join)));
+            eprintln!("{n_phi}x{n_psi}: step shared by two threads: {on}");
+        }
         let t = v.model().coupling();
         let (classes, dense, stored, rest) = t.block_stats();
         eprintln!(

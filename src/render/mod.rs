@@ -12,5 +12,6 @@ pub mod report;
 pub mod resample;
 pub mod scene;
 pub mod shape_plot;
+pub mod step_join;
 pub use noether_core::models::source;
 pub mod wav;

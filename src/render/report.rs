@@ -41,6 +41,10 @@ pub struct RenderReport {
     pub wall_seconds: f64,
     /// Simulated seconds per wall-clock second.
     pub realtime_factor: f64,
+    /// Threads that shared each step: 2 when a plate's SAV coupling kernel was split between
+    /// two (`noether render` with a tensor of at least
+    /// [`super::scene::SPLIT_MIN_ENTRIES`] entries and two cores), else 1.
+    pub step_threads: usize,
     /// Spectral centroid of pickup 1 (Hz) over the first and the last 100 ms: a rising value
     /// shows energy moving to high frequencies (the gong's cascade); `null` for silence.
     pub spectral_centroid_hz: [Option<f64>; 2],

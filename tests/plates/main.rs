@@ -20,6 +20,7 @@ mod plate_mallet_scene;
 mod plate_mirror;
 mod plate_render;
 mod plate_sav;
+mod plate_sav_split;
 mod plate_scheme;
 mod plate_shell;
 mod plate_shell_backbone;

@@ -426,13 +426,30 @@ impl BlockLayout {
         grad: &mut [f64],
         scratch: &mut [f64],
     ) {
+        self.quartic_gradient_rows(0..eta.len(), q, w, eta, grad, scratch);
+    }
+
+    /// [`Self::quartic_gradient`] restricted to the rows `rows` of the tensor: `eta` holds
+    /// `eta[l - rows.start]` for `l` in `rows` (length `rows.len()`), `w` is the whole weight
+    /// vector, and `grad` receives `4 Σ_{l ∈ rows} w_l eta_l H^l q` only. The sum of the
+    /// gradients of a partition of `0..N_Ψ` is the whole gradient (up to summation order).
+    /// Audio thread or a worker sharing one step, allocation-free.
+    pub(crate) fn quartic_gradient_rows(
+        &self,
+        rows: std::ops::Range<usize>,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2_fma {
             // SAFETY: `avx2_fma` is set only when the running CPU reports both features.
-            unsafe { self.quartic_avx2(q, w, eta, grad, scratch) };
+            unsafe { self.quartic_avx2(rows, q, w, eta, grad, scratch) };
             return;
         }
-        self.quartic::<false>(q, w, eta, grad, scratch);
+        self.quartic::<false>(rows, q, w, eta, grad, scratch);
     }
 
     /// [`Self::quartic`] compiled for AVX2 and FMA.
@@ -440,19 +457,21 @@ impl BlockLayout {
     #[target_feature(enable = "avx2,fma")]
     unsafe fn quartic_avx2(
         &self,
+        rows: std::ops::Range<usize>,
         q: &[f64],
         w: &[f64],
         eta: &mut [f64],
         grad: &mut [f64],
         scratch: &mut [f64],
     ) {
-        self.quartic::<true>(q, w, eta, grad, scratch);
+        self.quartic::<true>(rows, q, w, eta, grad, scratch);
     }
 
     /// The body of [`Self::quartic_gradient`] (`FMA`: fused multiply-adds).
     #[inline(always)]
     fn quartic<const FMA: bool>(
         &self,
+        rows: std::ops::Range<usize>,
         q: &[f64],
         w: &[f64],
         eta: &mut [f64],
@@ -468,7 +487,8 @@ impl BlockLayout {
         }
         qp[n..].fill(0.0);
         gp.fill(0.0);
-        for (l, (el, &wl)) in eta.iter_mut().zip(w).enumerate() {
+        let l0 = rows.start;
+        for (l, (el, &wl)) in (l0..).zip(eta.iter_mut().zip(&w[rows])) {
             self.row_apply::<FMA>(l, qp, v);
             let mut e = 0.0;
             for &(a, b) in self.touched(l) {

@@ -100,7 +100,7 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     runs.quartic_gradient(&q, &w, &mut eta_r, &mut grad_r, &mut scratch);
     // Both instantiations (plain and fused multiply-add), whatever this CPU has.
     let (mut eta_p, mut grad_p) = (vec![0.0; np], vec![0.0; nf]);
-    blocks.quartic::<false>(&q, &w, &mut eta_p, &mut grad_p, &mut scratch);
+    blocks.quartic::<false>(0..np, &q, &w, &mut eta_p, &mut grad_p, &mut scratch);
     // The FMA instantiation runs AVX2 intrinsics on x86-64 (single storage): only where the
     // CPU has them (the layout's own dispatch otherwise).
     #[cfg(target_arch = "x86_64")]
@@ -108,7 +108,7 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     #[cfg(not(target_arch = "x86_64"))]
     let fma = true;
     if fma {
-        blocks.quartic::<true>(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+        blocks.quartic::<true>(0..np, &q, &w, &mut eta_b, &mut grad_b, &mut scratch);
     } else {
         blocks.quartic_gradient(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
     }
@@ -120,6 +120,16 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
             h[(l * nf + i) * nf + j] = rv[e];
             h[(l * nf + j) * nf + i] = rv[e];
         }
+    }
+    // The same kernel in two row ranges (the split SAV step): the halves' `eta` make up the
+    // whole and their gradients add up to it.
+    let m = np / 3;
+    let (mut eta_s, mut grad_s, mut grad_s2) = (vec![0.0; np], vec![0.0; nf], vec![0.0; nf]);
+    let (e1, e2) = eta_s.split_at_mut(m);
+    blocks.quartic_gradient_rows(0..m, &q, &w, e1, &mut grad_s, &mut scratch);
+    blocks.quartic_gradient_rows(m..np, &q, &w, e2, &mut grad_s2, &mut scratch);
+    for (g, g2) in grad_s.iter_mut().zip(&grad_s2) {
+        *g += g2;
     }
     let mut grad_d = vec![0.0; nf];
     let mut gscale = vec![0.0; nf];
@@ -148,6 +158,7 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
             "eta runs {l}"
         );
         assert!((eta_p[l] - eta).abs() <= 1e-13 * escale, "eta plain {l}");
+        assert!((eta_s[l] - eta).abs() <= 1e-13 * escale, "eta split {l}");
         for s in 0..nf {
             grad_d[s] += 4.0 * w[l] * eta * hq[s];
             gscale[s] += 4.0 * w[l] * escale * habs[s];
@@ -165,6 +176,10 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
         assert!(
             (grad_p[s] - grad_d[s]).abs() <= 1e-13 * gscale[s],
             "grad plain {s}"
+        );
+        assert!(
+            (grad_s[s] - grad_d[s]).abs() <= 1e-13 * gscale[s],
+            "grad split {s}"
         );
     }
 }

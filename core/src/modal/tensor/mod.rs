@@ -310,6 +310,45 @@ impl CouplingTensor {
         self.blocks.quartic_gradient(q, w, eta, grad, scratch);
     }
 
+    /// [`Self::quartic_gradient`] over the rows `rows` only: `eta` of length `rows.len()` gets
+    /// `eta[l - rows.start]`, `grad` (length `N_Φ`) the part `4 Σ_{l ∈ rows} w_l eta_l H^l q`
+    /// of the gradient. Two threads can run two disjoint row ranges of one step at once, each
+    /// with its own `grad` and `scratch` (see [`Self::split_row`]). Allocation-free, audio
+    /// thread or a worker sharing its step. Panics on wrong lengths or a range past `N_Ψ`.
+    pub fn quartic_gradient_rows(
+        &self,
+        rows: std::ops::Range<usize>,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        assert!(
+            rows.start <= rows.end && rows.end <= self.n_psi,
+            "quartic_gradient_rows: rows"
+        );
+        assert_eq!(q.len(), self.n_phi, "quartic_gradient_rows: q length");
+        assert_eq!(grad.len(), self.n_phi, "quartic_gradient_rows: grad length");
+        assert!(
+            scratch.len() >= self.quartic_scratch_len(),
+            "quartic_gradient_rows: scratch length"
+        );
+        assert_eq!(w.len(), self.n_psi, "quartic_gradient_rows: w length");
+        assert_eq!(eta.len(), rows.len(), "quartic_gradient_rows: eta length");
+        self.blocks
+            .quartic_gradient_rows(rows, q, w, eta, grad, scratch);
+    }
+
+    /// The row `m` that splits the tensor's stored entries most evenly into rows `0..m` and
+    /// `m..N_Ψ` (the work of [`Self::quartic_gradient_rows`] is proportional to the entries).
+    pub fn split_row(&self) -> usize {
+        let half = self.value.len() as u64;
+        (0..=self.n_psi)
+            .min_by_key(|&m| (2 * u64::from(self.row_start[m])).abs_diff(half))
+            .unwrap_or(0)
+    }
+
     /// Scratch length [`Self::quartic_gradient`] needs: `3 N_Φ + 8` (permuted `q`, `H^l q` and
     /// gradient, plus the zero padding of the 4-lane block kernel).
     pub fn quartic_scratch_len(&self) -> usize {

@@ -87,6 +87,26 @@ pub trait ModalCoupling: Send + Sync {
     ) -> bool {
         false
     }
+    /// Optional: [`Self::quartic_gradient`] over the in-plane rows `rows` only (`eta` of length
+    /// `rows.len()`, `grad` the part of the gradient from those rows), so that two threads can
+    /// share one step. Returns `false` without writing anything when the implementation has
+    /// none (the default).
+    fn quartic_gradient_rows(
+        &self,
+        _rows: std::ops::Range<usize>,
+        _q: &[f64],
+        _w: &[f64],
+        _eta: &mut [f64],
+        _grad: &mut [f64],
+        _scratch: &mut [f64],
+    ) -> bool {
+        false
+    }
+    /// The in-plane row that splits [`Self::quartic_gradient_rows`]'s work in two halves
+    /// (default `N_Ψ / 2`).
+    fn split_row(&self) -> usize {
+        self.n_psi() / 2
+    }
 }
 
 /// A dense coupling tensor stored as `N_Ψ × N_Φ × N_Φ` (`H^l_{i,j}` at

@@ -110,6 +110,7 @@ mod sav;
 pub mod shape;
 mod sparse;
 pub mod spec;
+pub mod step_join;
 pub mod voice;
 
 pub use coupling::{DenseCoupling, ModalCoupling};
@@ -123,3 +124,4 @@ pub use mallet_heads::{HeadLaw, MalletHead};
 pub use model::{Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};
 pub use rest_shape::ShapePart;
+pub use step_join::{Sequential, StepJoin};

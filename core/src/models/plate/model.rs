@@ -17,6 +17,7 @@ use super::hand::Hand;
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
+use super::step_join::StepJoin;
 use crate::error::{check_finite, ParamError};
 use free_response::free_response_backward;
 
@@ -258,6 +259,18 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         check_weights("force_weights", weights, self.q.len())?;
         self.force_weights.copy_from_slice(weights);
         Ok(())
+    }
+
+    /// Shares each SAV step's coupling kernel between two jobs run by `join` (two halves of the
+    /// in-plane rows; [`super::step_join`]), or runs it in one pass (`None`, the default).
+    /// Returns whether the split is in use (the `sav` scheme, a coupling with a row-split
+    /// kernel, at least two in-plane modes). Worker thread: allocates the second half's
+    /// scratch.
+    pub fn set_step_join(&mut self, join: Option<Arc<dyn StepJoin>>) -> bool {
+        match self.sav.as_mut() {
+            Some(sav) => sav.set_join(&*self.coupling, join),
+            None => false,
+        }
     }
 
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;

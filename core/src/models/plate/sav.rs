@@ -51,6 +51,8 @@
 //! without allocating.
 
 use super::coupling::ModalCoupling;
+use super::step_join::StepJoin;
+use std::sync::Arc;
 
 /// Scratch and auxiliary state of the SAV scheme (owned by the model, audio thread).
 #[derive(Debug, Clone)]
@@ -63,6 +65,27 @@ pub(crate) struct SavStep {
     g: Vec<f64>,
     /// `A⁻¹ r` (first `N_Φ` entries; length `3 N_Φ + 8`); first the fused kernel's scratch.
     y: Vec<f64>,
+    /// The fused kernel split in two halves of the in-plane rows (`None`: one pass).
+    split: Option<SavSplit>,
+}
+
+/// The second half of a split fused kernel: its rows, gradient and scratch, and the join that
+/// runs the two halves (built on a worker thread; the step runs it, allocation-free).
+#[derive(Clone)]
+struct SavSplit {
+    /// First in-plane row of the second half.
+    row: usize,
+    /// The second half's part of `∇U` (length `N_Φ`).
+    g: Vec<f64>,
+    /// The second half's kernel scratch (length `3 N_Φ + 8`).
+    y: Vec<f64>,
+    join: Arc<dyn StepJoin>,
+}
+
+impl std::fmt::Debug for SavSplit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SavSplit").field("row", &self.row).finish()
+    }
 }
 
 /// Per-mode coefficients of the linear part (`inv_a = 1/(1 + c̃h/2)`, `b = 2 - h²ω̃²`; the
@@ -89,7 +112,62 @@ impl SavStep {
             g: vec![0.0; n_phi],
             // The block kernel's scratch: permuted q, H^l q and gradient, + 8 padding.
             y: vec![0.0; 3 * n_phi + 8],
+            split: None,
         }
+    }
+
+    /// Runs the fused kernel as two halves of the in-plane rows through `join` (or in one
+    /// pass with `None`). Returns whether the split is in use: it needs a coupling with
+    /// [`ModalCoupling::quartic_gradient_rows`] and at least two in-plane modes. A split
+    /// changes the summation order of `∇U` (round-off), not the scheme; its result does not
+    /// depend on how `join` schedules the halves. Worker thread (allocates).
+    pub(crate) fn set_join<C: ModalCoupling + ?Sized>(
+        &mut self,
+        coupling: &C,
+        join: Option<Arc<dyn StepJoin>>,
+    ) -> bool {
+        self.split = None;
+        let (nf, np) = (self.g.len(), self.w.len());
+        let Some(join) = join else { return false };
+        let row = coupling.split_row().clamp(1, np.saturating_sub(1));
+        if np < 2 {
+            return false;
+        }
+        let (q, mut g, mut y) = (vec![0.0; nf], vec![0.0; nf], vec![0.0; self.y.len()]);
+        let mut eta = vec![0.0; np - row];
+        if !coupling.quartic_gradient_rows(row..np, &q, &vec![0.0; np], &mut eta, &mut g, &mut y) {
+            return false;
+        }
+        self.split = Some(SavSplit { row, g, y, join });
+        true
+    }
+
+    /// The fused kernel `w = Ĥ(q,q)`, `g = ∇U(q)` as one pass or two halves (see
+    /// [`Self::set_join`]); `false` when the coupling has no fused kernel.
+    fn fused_gradient<C: ModalCoupling + ?Sized>(
+        &mut self,
+        coupling: &C,
+        q: &[f64],
+        u_coef: &[f64],
+    ) -> bool {
+        let Some(split) = self.split.as_mut() else {
+            return coupling.quartic_gradient(q, u_coef, &mut self.w, &mut self.g, &mut self.y);
+        };
+        let np = self.w.len();
+        let row = split.row;
+        let (w_a, w_b) = self.w.split_at_mut(row);
+        let (g_a, y_a) = (&mut self.g, &mut self.y);
+        let (g_b, y_b) = (&mut split.g, &mut split.y);
+        let (mut ok_a, mut ok_b) = (false, false);
+        split.join.join(
+            &mut || ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a),
+            &mut || ok_b = coupling.quartic_gradient_rows(row..np, q, u_coef, w_b, g_b, y_b),
+        );
+        debug_assert!(ok_a && ok_b, "set_join probed the split kernel");
+        for (g, &gb) in self.g.iter_mut().zip(&split.g) {
+            *g += gb;
+        }
+        ok_a && ok_b
     }
 
     /// `ψ = √(2U)` from the in-plane products `bl = Ĥ(·,·)_l`: `2U = 2 Σ u_l bl²`.
@@ -133,7 +211,7 @@ impl SavStep {
             } else {
                 self.g.fill(0.0);
             }
-        } else if coupling.quartic_gradient(q, k.u_coef, &mut self.w, &mut self.g, &mut self.y) {
+        } else if self.fused_gradient(coupling, q, k.u_coef) {
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };
             for g in self.g.iter_mut() {

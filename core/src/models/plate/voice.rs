@@ -239,6 +239,12 @@ impl PlateVoice {
         &self.model
     }
 
+    /// Shares each SAV step between two jobs run by `join`
+    /// ([`PlateModel::set_step_join`]); returns whether the split is in use. Worker thread.
+    pub fn set_step_join(&mut self, join: Option<std::sync::Arc<dyn super::StepJoin>>) -> bool {
+        self.model.set_step_join(join)
+    }
+
     fn force_at(&self, n: u64) -> f64 {
         match &self.force {
             ForceSignal::Strike(s) => s.force(n as f64 / self.fs),
