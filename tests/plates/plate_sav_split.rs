@@ -167,3 +167,14 @@ fn split_is_thread_independent_and_matches_one_pass() {
         diff / peak
     );
 }
+
+/// A plate with a single in-plane mode has no two halves: the split is declined, and the
+/// model keeps its one-pass kernel.
+#[test]
+fn one_in_plane_mode_declines_the_split() {
+    test_cache_dir();
+    let mut s = spec(false);
+    s.n_psi = 1;
+    let mut v = PlateVoice::build(&s).expect("catalogue plate, one in-plane mode");
+    assert!(!v.set_step_join(Some(Arc::new(Sequential))));
+}

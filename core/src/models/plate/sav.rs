@@ -129,10 +129,10 @@ impl SavStep {
         self.split = None;
         let (nf, np) = (self.g.len(), self.w.len());
         let Some(join) = join else { return false };
-        let row = coupling.split_row().clamp(1, np.saturating_sub(1));
         if np < 2 {
             return false;
         }
+        let row = coupling.split_row().clamp(1, np - 1);
         let (q, mut g, mut y) = (vec![0.0; nf], vec![0.0; nf], vec![0.0; self.y.len()]);
         let mut eta = vec![0.0; np - row];
         if !coupling.quartic_gradient_rows(row..np, &q, &vec![0.0; np], &mut eta, &mut g, &mut y) {
