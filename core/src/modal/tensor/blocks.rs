@@ -415,25 +415,13 @@ impl BlockLayout {
     }
 
     /// Fused `eta[l] = Σ_{ij} H^l_{ij} q_i q_j` and `grad = ∇_q Σ_l w_l eta_l²
-    /// (= 4 Σ_l w_l eta_l H^l q)`, each row read once. `scratch` of length ≥ `3 N_Φ + 2 PAD`
-    /// (permuted `q`, `H^l q`, permuted gradient). Audio thread, allocation-free. Runs the
-    /// AVX2 + FMA instantiation when the CPU has both (detected at build, [`Self::new`]).
-    pub(crate) fn quartic_gradient(
-        &self,
-        q: &[f64],
-        w: &[f64],
-        eta: &mut [f64],
-        grad: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        self.quartic_gradient_rows(0..eta.len(), q, w, eta, grad, scratch);
-    }
-
-    /// [`Self::quartic_gradient`] restricted to the rows `rows` of the tensor: `eta` holds
-    /// `eta[l - rows.start]` for `l` in `rows` (length `rows.len()`), `w` is the whole weight
-    /// vector, and `grad` receives `4 Σ_{l ∈ rows} w_l eta_l H^l q` only. The sum of the
-    /// gradients of a partition of `0..N_Ψ` is the whole gradient (up to summation order).
-    /// Audio thread or a worker sharing one step, allocation-free.
+    /// (= 4 Σ_l w_l eta_l H^l q)` over the rows `rows` of the tensor, each row read once:
+    /// `eta` holds `eta[l - rows.start]` for `l` in `rows` (length `rows.len()`), `w` is the
+    /// whole weight vector, and `grad` receives `4 Σ_{l ∈ rows} w_l eta_l H^l q` only (the
+    /// gradients of a partition of `0..N_Ψ` add up to the whole). `scratch` of length
+    /// ≥ `3 N_Φ + 2 PAD` (permuted `q`, `H^l q`, permuted gradient). Audio thread or a worker
+    /// sharing one step, allocation-free. Runs the AVX2 + FMA instantiation when the CPU has
+    /// both (detected at build, [`Self::new`]).
     pub(crate) fn quartic_gradient_rows(
         &self,
         rows: std::ops::Range<usize>,
@@ -467,7 +455,7 @@ impl BlockLayout {
         self.quartic::<true>(rows, q, w, eta, grad, scratch);
     }
 
-    /// The body of [`Self::quartic_gradient`] (`FMA`: fused multiply-adds).
+    /// The body of [`Self::quartic_gradient_rows`] (`FMA`: fused multiply-adds).
     #[inline(always)]
     fn quartic<const FMA: bool>(
         &self,

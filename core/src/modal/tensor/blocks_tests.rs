@@ -110,7 +110,7 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     if fma {
         blocks.quartic::<true>(0..np, &q, &w, &mut eta_b, &mut grad_b, &mut scratch);
     } else {
-        blocks.quartic_gradient(&q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+        blocks.quartic_gradient_rows(0..np, &q, &w, &mut eta_b, &mut grad_b, &mut scratch);
     }
     // Direct: dense H^l from the entries.
     let mut h = vec![0.0; np * nf * nf];

@@ -299,15 +299,7 @@ impl CouplingTensor {
         grad: &mut [f64],
         scratch: &mut [f64],
     ) {
-        assert_eq!(q.len(), self.n_phi, "quartic_gradient: q length");
-        assert_eq!(grad.len(), self.n_phi, "quartic_gradient: grad length");
-        assert!(
-            scratch.len() >= self.quartic_scratch_len(),
-            "quartic_gradient: scratch length"
-        );
-        assert_eq!(w.len(), self.n_psi, "quartic_gradient: w length");
-        assert_eq!(eta.len(), self.n_psi, "quartic_gradient: eta length");
-        self.blocks.quartic_gradient(q, w, eta, grad, scratch);
+        self.quartic_gradient_rows(0..self.n_psi, q, w, eta, grad, scratch);
     }
 
     /// [`Self::quartic_gradient`] over the rows `rows` only: `eta` of length `rows.len()` gets

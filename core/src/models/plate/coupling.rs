@@ -76,16 +76,17 @@ pub trait ModalCoupling: Send + Sync {
     /// Optional fused kernel: `eta[l] = Σ_{i,j} H^l_{i,j} q_i q_j` and
     /// `grad[s] = ∂/∂q_s Σ_l w_l eta_l² = 4 Σ_l w_l eta_l Σ_k H^l_{s,k} q_k`, with `scratch` of
     /// length at least `3 N_Φ + 8`. Returns `false` without writing anything when the implementation has no
-    /// fused kernel (the default; callers then use `contract_eta` and `apply_force`).
+    /// fused kernel (callers then use `contract_eta` and `apply_force`). The default runs
+    /// [`Self::quartic_gradient_rows`] over every row.
     fn quartic_gradient(
         &self,
-        _q: &[f64],
-        _w: &[f64],
-        _eta: &mut [f64],
-        _grad: &mut [f64],
-        _scratch: &mut [f64],
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
     ) -> bool {
-        false
+        self.quartic_gradient_rows(0..self.n_psi(), q, w, eta, grad, scratch)
     }
     /// Optional: [`Self::quartic_gradient`] over the in-plane rows `rows` only (`eta` of length
     /// `rows.len()`, `grad` the part of the gradient from those rows), so that two threads can

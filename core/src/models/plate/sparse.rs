@@ -42,17 +42,6 @@ impl ModalCoupling for CouplingTensor {
         CouplingTensor::coupling_matrix_with_scratch(self, q, g, s);
     }
 
-    fn quartic_gradient(
-        &self,
-        q: &[f64],
-        w: &[f64],
-        eta: &mut [f64],
-        grad: &mut [f64],
-        scratch: &mut [f64],
-    ) -> bool {
-        CouplingTensor::quartic_gradient(self, q, w, eta, grad, scratch);
-        true
-    }
     fn quartic_gradient_rows(
         &self,
         rows: std::ops::Range<usize>,
