@@ -99,6 +99,7 @@ pub mod coupling;
 pub mod energy;
 pub mod excitation;
 pub mod hand;
+mod lanes;
 mod linalg;
 pub mod mallet;
 pub mod mallet_heads;

@@ -14,6 +14,7 @@ use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
 use super::hand::Hand;
+use super::lanes::{all_finite, lane_sum};
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::{SavCoefficients, SavStep};
@@ -328,25 +329,23 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// under the force `force` = `F(n)`: divergence check, power, pickups, shift, energy.
     #[inline]
     fn finish_step(&mut self, force: f64) -> Result<(), Diverged> {
-        if !self.q_next.iter().all(|x| x.is_finite()) || !force.is_finite() {
+        if !all_finite(&self.q_next) || !force.is_finite() {
             return Err(self.fail());
         }
         if self.track_energy {
             self.update_power(force);
         }
+        let n = self.q.len();
+        let (qn, qc, qp) = (&self.q_next[..n], &self.q[..n], &self.q_prev[..n]);
         for (out, p) in self.outputs.iter_mut().zip(&self.pickups) {
-            *out = p
-                .weights
-                .iter()
-                .zip(self.q_next.iter().zip(self.q.iter().zip(&self.q_prev)))
-                .map(|(&phi, (&qn, (&qc, &qp)))| {
-                    phi * match p.kind {
-                        PickupKind::Displacement => qn,
-                        PickupKind::VelocityCentred => (qn - qp) / (2.0 * self.h),
-                        PickupKind::VelocityBackward => (qn - qc) / self.h,
-                    }
-                })
-                .sum();
+            let phi = &p.weights[..n];
+            *out = match p.kind {
+                PickupKind::Displacement => lane_sum(n, |s| phi[s] * qn[s]),
+                PickupKind::VelocityCentred => {
+                    lane_sum(n, |s| phi[s] * (qn[s] - qp[s])) * (0.5 / self.h)
+                }
+                PickupKind::VelocityBackward => lane_sum(n, |s| phi[s] * (qn[s] - qc[s])) / self.h,
+            };
         }
         std::mem::swap(&mut self.q_prev, &mut self.q);
         std::mem::swap(&mut self.q, &mut self.q_next);

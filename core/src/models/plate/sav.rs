@@ -51,6 +51,7 @@
 //! without allocating.
 
 use super::coupling::ModalCoupling;
+use super::lanes::{lane_sum, lane_sums};
 use super::step_join::StepJoin;
 use std::sync::Arc;
 
@@ -238,24 +239,24 @@ impl SavStep {
         // `(A + β g gᵀ) δ = 2(q(n) - q(n-1)) - h²ω̃² q(n) + h² p(n) - (h²/ρh) ψ(n-½) g`.
         let c = k.h2_over_rho_h * self.psi;
         // y = A⁻¹ r; gᵀy and gᵀA⁻¹g for Sherman-Morrison.
-        let (mut gy, mut gag) = (0.0, 0.0);
-        for s in 0..q.len() {
-            let gs = self.g[s];
-            let r = 2.0 * (q[s] - q_prev[s]) + (k.b[s] - 2.0) * q[s] + fscale * k.force_weights[s]
-                - c * gs;
-            let ys = r * k.inv_a[s];
-            self.y[s] = ys;
-            gy += gs * ys;
-            gag += gs * gs * k.inv_a[s];
-        }
+        let n = q.len();
+        let (qc, qp, g, y) = (&q[..n], &q_prev[..n], &self.g[..n], &mut self.y[..n]);
+        let (b, fw, inv_a) = (&k.b[..n], &k.force_weights[..n], &k.inv_a[..n]);
+        let [gy, gag] = lane_sums(n, |s| {
+            let gs = g[s];
+            let r = 2.0 * (qc[s] - qp[s]) + (b[s] - 2.0) * qc[s] + fscale * fw[s] - c * gs;
+            let ys = r * inv_a[s];
+            y[s] = ys;
+            [gs * ys, gs * gs * inv_a[s]]
+        });
         let beta = 0.25 * k.h2_over_rho_h;
         let coef = beta * gy / (1.0 + beta * gag);
-        let mut dpsi = 0.0;
-        for s in 0..q.len() {
-            let delta = self.y[s] - coef * self.g[s] * k.inv_a[s];
-            q_next[s] = q_prev[s] + delta;
-            dpsi += self.g[s] * delta;
-        }
+        let q_next = &mut q_next[..n];
+        let dpsi = lane_sum(n, |s| {
+            let delta = y[s] - coef * g[s] * inv_a[s];
+            q_next[s] = qp[s] + delta;
+            g[s] * delta
+        });
         self.psi += 0.5 * dpsi;
     }
 

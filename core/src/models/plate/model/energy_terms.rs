@@ -3,19 +3,22 @@
 
 use super::PlateModel;
 use crate::models::plate::coupling::ModalCoupling;
+use crate::models::plate::lanes::lane_sums;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`).
     pub(super) fn update_power(&mut self, force: f64) {
-        let (h, rho_h) = (self.h, self.rho_h);
-        let (mut diss, mut pw) = (0.0, 0.0);
-        for s in 0..self.q.len() {
-            let v = (self.q_next[s] - self.q_prev[s]) / (2.0 * h);
-            diss += self.c_eff[s] * v * v;
-            pw += self.force_weights[s] * v;
-        }
-        self.energy.dissipated += h * rho_h * diss;
-        self.energy.work += h * force * pw;
+        let (h, rho_h, n) = (self.h, self.rho_h, self.q.len());
+        let (qn, qp) = (&self.q_next[..n], &self.q_prev[..n]);
+        let (c, fw) = (&self.c_eff[..n], &self.force_weights[..n]);
+        // With δ_s = q_s(n+1) - q_s(n-1), the centred velocity is δ_s / 2h.
+        let [diss, pw] = lane_sums(n, |s| {
+            let d = qn[s] - qp[s];
+            [c[s] * d * d, fw[s] * d]
+        });
+        let inv_2h = 0.5 / h;
+        self.energy.dissipated += h * rho_h * diss * inv_2h * inv_2h;
+        self.energy.work += h * force * pw * inv_2h;
         if self.hand.c > 0.0 {
             self.hand_power();
         }
@@ -23,14 +26,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
 
     /// Recomputes `t`, `v`, `u` from `q(n)`, `q(n-1)`, `Ĥ(q(n), q(n-1))`.
     pub(super) fn update_stored_energy(&mut self, reset_accumulators: bool) {
-        let (h, rho_h) = (self.h, self.rho_h);
-        let (mut t, mut v) = (0.0, 0.0);
-        for s in 0..self.q.len() {
-            let dq = (self.q[s] - self.q_prev[s]) / h;
-            t += dq * dq;
-            v += self.omega_sq[s] * self.q[s] * self.q_prev[s];
-        }
-        self.energy.kinetic = 0.5 * rho_h * t;
+        let (h, rho_h, n) = (self.h, self.rho_h, self.q.len());
+        let (q, qp, w2) = (&self.q[..n], &self.q_prev[..n], &self.omega_sq[..n]);
+        let [t, v] = lane_sums(n, |s| {
+            let d = q[s] - qp[s];
+            [d * d, w2[s] * q[s] * qp[s]]
+        });
+        self.energy.kinetic = 0.5 * rho_h * t / (h * h);
         self.energy.linear = 0.5 * rho_h * v;
         self.energy.nonlinear = match &self.sav {
             Some(sav) => 0.5 * sav.psi * sav.psi,
