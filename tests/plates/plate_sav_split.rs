@@ -12,54 +12,26 @@
 //! any gradient `g`. The comparison with the one-pass kernel does (leaving out either half
 //! changes the sound at the 1e-1 level).
 
-use noether::models::plate::spec::{Damping, Excitation, PlateScheme, PlateShape, Position};
+use noether::models::plate::spec::{PlateScheme, PlateShape};
 use noether::models::plate::voice::PlateVoice;
 use noether::models::plate::{Sequential, StepJoin};
 use noether::models::source::RenderSource;
 use noether::render::step_join::SpinJoin;
 use noether_testkit::env::test_cache_dir;
-use noether_testkit::harness::{check, plate_spec, Case, Exercise, Expect, Family};
+use noether_testkit::harness::{
+    check, damped_strike_spec, lossless_impulse_spec, Case, Exercise, Expect, Family,
+};
 use std::sync::Arc;
 
 /// The catalogue's free disc (24 × 12 modes, 48 kHz, `sav`): a 4 N·s impulse without losses,
 /// or ten times the lecture's damping with a 600 N, 1 ms strike near the rim.
 fn spec(damped: bool) -> noether::models::plate::spec::PlateSpec {
-    let (damping, excitation) = if damped {
-        (
-            Damping::Power {
-                a: 0.05,
-                b: 0.6,
-                c0: 0.0,
-            },
-            Excitation::Strike {
-                at: Position {
-                    r: Some(0.92),
-                    angle: Some(0.0),
-                    ..Position::default()
-                },
-                duration: 1e-3,
-                peak_force: 600.0,
-            },
-        )
+    let (shape, scheme) = (PlateShape::CircularFree, PlateScheme::SavExact);
+    if damped {
+        damped_strike_spec(shape, scheme)
     } else {
-        (
-            Damping::None,
-            Excitation::Impulse {
-                at: Position {
-                    r: Some(0.5),
-                    angle: Some(0.3),
-                    ..Position::default()
-                },
-                impulse: 4.0,
-            },
-        )
-    };
-    plate_spec(
-        PlateShape::CircularFree,
-        PlateScheme::SavExact,
-        damping,
-        excitation,
-    )
+        lossless_impulse_spec(shape, scheme)
+    }
 }
 
 fn voice(damped: bool, join: Option<Arc<dyn StepJoin>>) -> PlateVoice {
