@@ -164,13 +164,14 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         }
     }
     eprintln!(
-        "  {:.2} s, peak {:.4} ({}), nan {}; CPU {:.3} s per audio second, worst block {:.3} of its duration, {} thread(s); bank ready in {:.2} s",
+        "  {:.2} s, peak {:.4} ({}), nan {}; CPU {:.3} s and wall {:.3} s per audio second, worst block {:.3} of its duration, {} thread(s); bank ready in {:.2} s",
         r.seconds,
         r.peak,
         r.peak_dbfs
             .map_or("silent".to_string(), |d| format!("{d:.1} dBFS")),
         r.nan_count,
         r.cpu_seconds_per_audio_second,
+        r.wall_seconds_per_audio_second,
         r.max_block_cpu_fraction,
         r.threads,
         r.bank_seconds

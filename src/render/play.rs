@@ -281,6 +281,13 @@ pub struct PlayReport {
     pub cpu_seconds_per_audio_second: f64,
     /// Largest process CPU time of one `process_events` call over the block's duration.
     pub max_block_cpu_fraction: f64,
+    /// Wall seconds spent in `process_events` per second of audio rendered: below 1 the
+    /// engine keeps up with real time on this machine (with every core it uses; a helper
+    /// thread that spins while it waits for work counts in the CPU figure, not in this one).
+    pub wall_seconds_per_audio_second: f64,
+    /// Largest wall time of one `process_events` call over the block's duration (note-ons
+    /// included, whose tier set-up runs in that block).
+    pub max_block_wall_fraction: f64,
     /// Threads sharing the voices' work: the `threads` parameter, or the machine's available
     /// parallelism when it is 0.
     pub threads: usize,
@@ -303,6 +310,15 @@ pub struct PlayReport {
     pub refused_notes: u64,
     /// Voices silenced as diverged.
     pub diverged_voices: u64,
+    /// Voice chunks a worker had not finished within the audio thread's bounded wait (left
+    /// out of the mix).
+    pub late_jobs: u64,
+    /// Halves of split plate steps run by a worker (voices with a coupling tensor of at
+    /// least `SPLIT_MIN_ENTRIES` entries share each step between two cores).
+    pub shared_step_halves: u64,
+    /// Halves of split steps a worker took but did not finish within the bounded wait (the
+    /// voice computed them itself: same sound).
+    pub late_step_halves: u64,
 }
 
 /// A finished play: the stereo output at the host rate and its report.
@@ -378,6 +394,7 @@ pub fn play(
     let mut block_events: Vec<Event> = Vec::with_capacity(timeline.events.len().min(4096));
     let mut notes = Vec::new();
     let (mut next, mut pos, mut max_fraction) = (0usize, 0usize, 0.0f64);
+    let (mut wall, mut max_wall_fraction) = (0.0f64, 0.0f64);
     let progress_every = (0.1 * rate) as usize;
     let mut next_progress = 0;
     let cpu0 = process_cpu_seconds();
@@ -390,10 +407,12 @@ pub fn play(
             block_events.push(Event::new((at(e.time) - pos) as u32, e.kind));
             next += 1;
         }
-        let c0 = process_cpu_seconds();
+        let (c0, w0) = (process_cpu_seconds(), std::time::Instant::now());
         engine.process_events(&block_events, &mut l[..n], &mut r[..n]);
-        let spent = process_cpu_seconds() - c0;
+        let (spent, took) = (process_cpu_seconds() - c0, w0.elapsed().as_secs_f64());
         max_fraction = max_fraction.max(spent / (n as f64 / rate));
+        max_wall_fraction = max_wall_fraction.max(took / (n as f64 / rate));
+        wall += took;
         for e in &timeline.events[first..next] {
             if let EventKind::NoteOn { key, velocity } = e.kind {
                 notes.push(note_report(&engine, key, velocity, e.time));
@@ -429,6 +448,8 @@ pub fn play(
         notes,
         cpu_seconds_per_audio_second: cpu / (total.max(1) as f64 / rate),
         max_block_cpu_fraction: max_fraction,
+        wall_seconds_per_audio_second: wall / (total.max(1) as f64 / rate),
+        max_block_wall_fraction: max_wall_fraction,
         threads,
         polyphony: engine.polyphony(),
         bank_sim_rate: engine.sim_rate(),
@@ -439,6 +460,9 @@ pub fn play(
         nan_count,
         refused_notes: engine.refused_notes(),
         diverged_voices: engine.diverged_voices(),
+        late_jobs: engine.late_jobs(),
+        shared_step_halves: engine.shared_step_halves(),
+        late_step_halves: engine.late_step_halves(),
     };
     Ok(Played { out, report })
 }

@@ -15,9 +15,8 @@ use crate::scene::{Scene, StringSpec};
 pub const ENERGY_POINTS: usize = 4000;
 
 /// Smallest coupling tensor (stored entries) whose SAV step [`render_scene_on`] shares between
-/// two threads. Below it the per-step hand-over (a few hundred nanoseconds) is a large share
-/// of a step: at 84 000 entries (510 × 15 mirror modes) a step takes about 22 µs.
-pub const SPLIT_MIN_ENTRIES: usize = 150_000;
+/// two threads: the engine's threshold.
+pub use noether_core::models::plate::SPLIT_MIN_ENTRIES;
 
 /// A scene's model, ready to render, with what the report says about it.
 pub struct SceneSource {

@@ -13,6 +13,7 @@ mod engine_alloc;
 mod engine_hand;
 mod engine_mallet;
 mod engine_shape;
+mod engine_split_step;
 mod engine_threads;
 mod extreme_levels;
 mod per_note;

@@ -10,6 +10,7 @@ use super::pool::Pool;
 use super::telemetry::Telemetry;
 use super::tuning::KeyTuning;
 use crate::error::{check_closed, ParamError};
+use crate::models::plate::StepBoard;
 use crossbeam_channel::{bounded, Receiver, Sender};
 use ringbuf::traits::Split;
 use ringbuf::{HeapCons, HeapProd, HeapRb};
@@ -50,6 +51,9 @@ pub struct Engine {
     pub(super) worker: Option<Worker>,
     /// The voice pool's workers (started by `activate`).
     pub(super) pool: Option<Pool>,
+    /// Where the bank's large plate voices offer their steps' second halves and the pool's
+    /// workers take them (shared by the pool, the builder thread's banks and this engine).
+    pub(super) board: Arc<StepBoard>,
     /// The current bank while a late voice job still runs on a worker: nothing but the
     /// chunk loop touches it, events wait in `deferred` (see `render`).
     pub(super) held: Option<Box<Bank>>,
@@ -128,6 +132,7 @@ impl Engine {
             status: status.clone(),
             worker: None,
             pool: None,
+            board: Arc::new(StepBoard::new()),
             held: None,
             deferred: [EventKind::AllNotesOff; DEFERRED],
             deferred_len: 0,
@@ -215,7 +220,8 @@ impl Engine {
         let next = self.bank.as_ref().map_or(1, |b| b.id + 1);
         let last_good = self.bank.as_ref().map(|b| b.values);
         let wanted = self.params.snapshot();
-        let (bank, refused) = build_playable(wanted, last_good, host_rate, &mut cache, next)?;
+        let (bank, refused) =
+            build_playable(wanted, last_good, host_rate, &mut cache, &self.board, next)?;
         if let Ok(mut slot) = self.status.error.lock() {
             *slot = refused.as_ref().map(|e| format!("{e}; {KEPT}"));
         }
@@ -237,13 +243,14 @@ impl Engine {
             bank_tx: self.bank_tx.clone(),
             retire_rx: self.retire_rx.clone(),
             cache,
+            board: self.board.clone(),
             // A refused parameter set is not retried until it changes.
             built_key: wanted.rebuild_key(),
             next_id: next + 1,
         })
         .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
         self.worker = Some(worker);
-        let pool = Pool::start(Pool::default_workers())
+        let pool = Pool::start(Pool::default_workers(), self.board.clone())
             .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
         self.pool = Some(pool);
         Ok(refused)
@@ -431,9 +438,10 @@ fn build_playable(
     last_good: Option<ParamValues>,
     host_rate: f64,
     cache: &mut ModalCache,
+    board: &Arc<StepBoard>,
     id: u64,
 ) -> Result<(Box<Bank>, Option<ParamError>), ParamError> {
-    let refused = match Bank::build(&wanted, host_rate, cache, id) {
+    let refused = match Bank::build(&wanted, host_rate, cache, board, id) {
         Ok(bank) => return Ok((Box::new(bank), None)),
         Err(e) => e,
     };
@@ -442,10 +450,10 @@ fn build_playable(
         // rebuild parameters fall back.
         let mut v = wanted;
         v.take_rebuild_values(&fallback);
-        if let Ok(bank) = Bank::build(&v, host_rate, cache, id) {
+        if let Ok(bank) = Bank::build(&v, host_rate, cache, board, id) {
             return Ok((Box::new(bank), Some(refused)));
         }
-        if let Ok(bank) = Bank::build(&fallback, host_rate, cache, id) {
+        if let Ok(bank) = Bank::build(&fallback, host_rate, cache, board, id) {
             return Ok((Box::new(bank), Some(refused)));
         }
     }
@@ -469,24 +477,27 @@ mod tests {
     #[test]
     fn a_refused_set_falls_back_to_the_last_good_model_then_the_defaults() {
         let mut cache = ModalCache::default();
+        let board = Arc::new(StepBoard::new());
         let mut good = ParamValues::defaults();
         good.0[ParamId::Model.index()] = 3.0;
         good.0[ParamId::Modes.index()] = 16.0;
         good.0[ParamId::Gain.index()] = -3.0;
         let mut wanted = refused_string();
         wanted.0[ParamId::Gain.index()] = -12.0;
-        let (bank, refused) = build_playable(wanted, Some(good), 48_000.0, &mut cache, 1).unwrap();
+        let (bank, refused) =
+            build_playable(wanted, Some(good), 48_000.0, &mut cache, &board, 1).unwrap();
         let refused = refused.expect("the refusal is returned");
         assert!(refused.field.contains("length"), "{refused}");
         // The last good model's structure with the wanted playing values.
         assert_eq!(bank.values.rebuild_key(), good.rebuild_key());
         assert_eq!(bank.values.get(ParamId::Gain), -12.0);
         // With no last good model: the table's defaults.
-        let (bank, refused) = build_playable(wanted, None, 48_000.0, &mut cache, 2).unwrap();
+        let (bank, refused) =
+            build_playable(wanted, None, 48_000.0, &mut cache, &board, 2).unwrap();
         assert!(refused.is_some());
         assert_eq!(bank.kind, super::super::kinds::ModelKind::Gong);
         // A buildable set is built as asked.
-        let (bank, refused) = build_playable(good, None, 48_000.0, &mut cache, 3).unwrap();
+        let (bank, refused) = build_playable(good, None, 48_000.0, &mut cache, &board, 3).unwrap();
         assert!(refused.is_none());
         assert_eq!(bank.values, good);
     }

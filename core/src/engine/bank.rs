@@ -14,11 +14,13 @@ use super::resample::Resampler;
 use super::voice::{StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
 pub use crate::models::plate::basis::ModalCache;
+use crate::models::plate::StepBoard;
 use crate::models::string::spec::{
     StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
     StringSpec,
 };
 use crate::models::string::{StiffString, ValetteLosses};
+use std::sync::Arc;
 
 /// Host-rate samples per internal chunk: events, parameter reads and bank swaps happen on
 /// chunk boundaries at the latest, and the simulation scratch is sized for one chunk.
@@ -58,16 +60,23 @@ pub(crate) struct Bank {
     pub lanes: Box<Lanes>,
     /// Output scale (1 / velocity reference).
     pub norm: f64,
+    /// Some plate voice offers the second half of its steps on the pool's board (its
+    /// coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries): chunks ask the pool's
+    /// workers to help.
+    pub split_steps: bool,
     /// The parameters it was built from (the last good model when a later set is refused).
     pub values: ParamValues,
 }
 
 impl Bank {
     /// Builds the bank for `v` at `host_rate` (worker thread; allocates, may take seconds).
+    /// Plate voices whose coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries offer
+    /// the second half of each step on `board` (the voice pool's helpers take it).
     pub fn build(
         v: &ParamValues,
         host_rate: f64,
         cache: &mut ModalCache,
+        board: &Arc<StepBoard>,
         id: u64,
     ) -> Result<Bank, ParamError> {
         crate::error::check_closed("host_rate", host_rate, 8000.0, 768_000.0)?;
@@ -76,6 +85,7 @@ impl Bank {
         let modes = v.index_of(ParamId::Modes).max(1);
         let mut voices = Vec::with_capacity(voices_n);
         let (norm, sim_rate);
+        let mut split_steps = false;
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
             sim_rate = plate_sim_rate(
@@ -83,7 +93,7 @@ impl Bank {
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
             );
-            voices = plate_voices(kind, v, sim_rate, voices_n, cache)?;
+            (voices, split_steps) = plate_voices(kind, v, sim_rate, voices_n, cache, board)?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
             sim_rate = v.get(ParamId::SimRate) as f64;
@@ -183,6 +193,7 @@ impl Bank {
             sim_r: vec![0.0; max_in],
             lanes: Lanes::new(voices_n, max_in),
             norm,
+            split_steps,
             values: *v,
         })
     }

@@ -105,6 +105,8 @@ pub(crate) struct WorkerSetup {
     pub bank_tx: Sender<Box<Bank>>,
     pub retire_rx: Receiver<Box<Bank>>,
     pub cache: ModalCache,
+    /// The voice pool's board for split steps (the banks' large plate voices offer on it).
+    pub board: Arc<crate::models::plate::StepBoard>,
     /// Rebuild key of the bank the audio thread has.
     pub built_key: ParamValues,
     /// Identifier of the next bank.
@@ -169,7 +171,7 @@ fn build_and_send(s: &mut WorkerSetup, v: &ParamValues, stop: &AtomicBool) {
     s.status.rebuilding.store(true, Ordering::Release);
     let id = s.next_id;
     s.next_id += 1;
-    match Bank::build(v, s.host_rate, &mut s.cache, id) {
+    match Bank::build(v, s.host_rate, &mut s.cache, &s.board, id) {
         Ok(bank) => {
             if let Ok(mut e) = s.status.error.lock() {
                 *e = None;

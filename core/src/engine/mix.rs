@@ -118,8 +118,8 @@ pub(crate) fn run_bank(
         return lanes.any_busy();
     }
     match share.pool {
-        Some(p) if share.helpers > 0 && queued.count_ones() > 1 => {
-            p.run(lanes, queued, share.helpers, share.wait)
+        Some(p) if share.helpers > 0 && (queued.count_ones() > 1 || b.split_steps) => {
+            p.run(lanes, queued, share.helpers, share.wait, b.split_steps)
         }
         _ => {
             lanes.claim(0);

@@ -20,7 +20,10 @@ use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
 use crate::models::plate::rest_projection::project;
 use crate::models::plate::rest_shape::ShapePart;
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
-use crate::models::plate::{LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme};
+use crate::models::plate::{
+    LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme, StepBoard,
+    SPLIT_MIN_ENTRIES,
+};
 use std::f64::consts::PI;
 use std::sync::Arc;
 
@@ -149,7 +152,8 @@ pub(crate) fn plate_voices(
     sim_rate: f64,
     voices_n: usize,
     cache: &mut ModalCache,
-) -> Result<Vec<Voice>, ParamError> {
+    board: &Arc<StepBoard>,
+) -> Result<(Vec<Voice>, bool), ParamError> {
     let modes = v.index_of(ParamId::Modes).max(1);
     let n_psi = v.index_of(ParamId::InPlaneModes);
     let m = Material::from_params(v);
@@ -197,6 +201,7 @@ pub(crate) fn plate_voices(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut voices = Vec::with_capacity(voices_n);
+    let mut split = false;
     for _ in 0..voices_n {
         let mut models = Vec::with_capacity(tiers.len());
         for (&(n, m), coupling) in tiers.iter().zip(&couplings) {
@@ -217,12 +222,11 @@ pub(crate) fn plate_voices(
                 Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
                 Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
             ];
-            models.push(PlateModel::new(
-                &params,
-                coupling.clone(),
-                vec![0.0; n],
-                pickups,
-            )?);
+            let mut model = PlateModel::new(&params, coupling.clone(), vec![0.0; n], pickups)?;
+            if coupling.nnz() >= SPLIT_MIN_ENTRIES {
+                split |= model.set_step_board(Some(board.clone()));
+            }
+            models.push(model);
         }
         voices.push(Voice::new(VoiceModel::Plate(Box::new(PlateVoice::new(
             models,
@@ -230,5 +234,5 @@ pub(crate) fn plate_voices(
             sim_rate,
         )))));
     }
-    Ok(voices)
+    Ok((voices, split))
 }

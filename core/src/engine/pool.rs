@@ -43,6 +43,7 @@
 //! the workers run [`Lanes::claim`] only.
 
 use super::voice::Voice;
+use crate::models::plate::StepBoard;
 use std::cell::{Cell, UnsafeCell};
 use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicU8, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -240,6 +241,11 @@ struct Shared {
     cpu_ns: Box<[AtomicU64]>,
     /// Jobs run by the workers (not by the audio thread) since the start.
     worker_jobs: AtomicU64,
+    /// Where the voices of a bank with split steps offer their steps' second halves.
+    board: Arc<StepBoard>,
+    /// The chunk in progress has voices with split steps: invited workers help on the board
+    /// after their voice jobs, until the chunk ends.
+    assist: AtomicBool,
 }
 
 /// The pool of worker threads (owned by the engine; started by `activate`, stopped by
@@ -258,8 +264,9 @@ impl Pool {
         std::thread::available_parallelism().map_or(0, |n| n.get() - 1)
     }
 
-    /// Starts `workers` worker threads (main thread; allocates and spawns).
-    pub fn start(workers: usize) -> std::io::Result<Pool> {
+    /// Starts `workers` worker threads that help on `board` when a chunk asks (main thread;
+    /// allocates and spawns).
+    pub fn start(workers: usize, board: Arc<StepBoard>) -> std::io::Result<Pool> {
         let shared = Arc::new(Shared {
             epoch: AtomicU64::new(0),
             table: AtomicPtr::new(std::ptr::null_mut()),
@@ -269,6 +276,8 @@ impl Pool {
             parking: (0..workers).map(|_| AtomicBool::new(false)).collect(),
             cpu_ns: (0..workers).map(|_| AtomicU64::new(0)).collect(),
             worker_jobs: AtomicU64::new(0),
+            board,
+            assist: AtomicBool::new(false),
         });
         let mut pool = Pool {
             shared,
@@ -311,18 +320,28 @@ impl Pool {
     /// Runs the jobs queued in `lanes` (the lanes in the bit mask `queued`) with up to
     /// `helpers` workers besides the calling audio thread, which claims jobs too; then waits
     /// at most `wait` for the jobs the workers hold. Returns with each of those jobs `DONE`
-    /// or, if a worker was late, still `RUNNING`. Audio thread: no allocation, no lock;
-    /// `unpark` is a futex wake, made only when a worker sleeps.
-    pub fn run(&self, lanes: &Lanes, queued: u64, helpers: usize, wait: Duration) {
+    /// or, if a worker was late, still `RUNNING`. With `assist` (the bank's voices split their
+    /// steps, `half_step`), the workers also take the halves offered on the board until the
+    /// chunk ends, and a single queued voice is left to the audio thread (so that a worker
+    /// helps it rather than runs it alone). Audio thread: no allocation, no lock; `unpark` is
+    /// a futex wake, made only when a worker sleeps.
+    pub fn run(&self, lanes: &Lanes, queued: u64, helpers: usize, wait: Duration, assist: bool) {
         let helpers = helpers.min(self.threads.len());
         if helpers == 0 {
             lanes.claim(0);
             return;
         }
         let s = &*self.shared;
+        let alone = assist && queued.count_ones() == 1;
         s.invited.store(helpers, Ordering::SeqCst);
-        s.table
-            .store(lanes as *const Lanes as *mut Lanes, Ordering::SeqCst);
+        s.assist.store(assist, Ordering::SeqCst);
+        s.board.set_open(assist);
+        let table = if alone {
+            std::ptr::null_mut()
+        } else {
+            lanes as *const Lanes as *mut Lanes
+        };
+        s.table.store(table, Ordering::SeqCst);
         s.epoch.fetch_add(1, Ordering::SeqCst);
         for (k, t) in self.threads.iter().enumerate().take(helpers) {
             if s.parking[k].load(Ordering::SeqCst) {
@@ -336,6 +355,8 @@ impl Pool {
         while lanes.busy_among(queued) && start.elapsed() < wait {
             std::hint::spin_loop();
         }
+        s.board.set_open(false);
+        s.assist.store(false, Ordering::SeqCst);
         s.table.store(std::ptr::null_mut(), Ordering::SeqCst);
     }
 
@@ -435,6 +456,19 @@ fn worker(s: &Shared, k: usize) {
                 let n = lanes.len().max(1);
                 let ran = lanes.claim((k + 1) * n / (s.invited.load(Ordering::Relaxed) + 1));
                 s.worker_jobs.fetch_add(ran as u64, Ordering::Relaxed);
+            }
+            // Help with the steps' second halves until the chunk ends (bounded by the chunk:
+            // the audio thread clears `assist` at its end; the next chunk bumps the epoch).
+            while s.assist.load(Ordering::SeqCst)
+                && s.epoch.load(Ordering::SeqCst) == seen
+                && !s.stop.load(Ordering::SeqCst)
+            {
+                // SAFETY: this worker is counted in `busy`, so no bank (and no job on the
+                // board, which belong to a bank's voices) is dropped before the decrement
+                // below (`Pool::quiescent`).
+                if !unsafe { s.board.help() } {
+                    std::hint::spin_loop();
+                }
             }
             s.busy.fetch_sub(1, Ordering::SeqCst);
         }

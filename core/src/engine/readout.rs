@@ -35,7 +35,8 @@ impl Engine {
 
     /// Threads allowed to share the last chunk's voices, the audio thread included: the
     /// `threads` parameter capped at the pool's workers plus one (1: the audio thread alone;
-    /// a chunk with one sounding voice runs on the audio thread whatever this says).
+    /// a chunk with one sounding voice runs on the audio thread, helped by a worker only
+    /// when its steps are split).
     pub fn threads_used(&self) -> usize {
         self.threads_used as usize
     }
@@ -44,6 +45,20 @@ impl Engine {
     /// was created.
     pub fn worker_jobs(&self) -> u64 {
         self.worker_jobs_past + self.pool.as_ref().map_or(0, |p| p.worker_jobs())
+    }
+
+    /// Halves of split plate steps run by the pool's workers (`half_step`: voices whose
+    /// coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries),
+    /// since the engine was created.
+    pub fn shared_step_halves(&self) -> u64 {
+        self.board.shared_halves()
+    }
+
+    /// Halves of split plate steps a worker took but did not finish within the owner's
+    /// bounded wait (the owner computed them itself; the sound is the same), since the engine
+    /// was created.
+    pub fn late_step_halves(&self) -> u64 {
+        self.board.late_halves()
     }
 
     /// Events lost because more than 256 arrived while a late job held the bank.

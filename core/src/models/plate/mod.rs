@@ -98,6 +98,7 @@ pub mod basis;
 pub mod coupling;
 pub mod energy;
 pub mod excitation;
+pub mod half_step;
 pub mod hand;
 mod lanes;
 mod linalg;
@@ -119,6 +120,7 @@ pub use energy::PlateEnergy;
 pub use excitation::{
     damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
 };
+pub use half_step::{StepBoard, SPLIT_MIN_ENTRIES};
 pub use hand::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};
 pub use mallet_heads::{HeadLaw, MalletHead};

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
+use super::half_step::StepBoard;
 use super::hand::Hand;
 use super::lanes::{all_finite, lane_sum};
 use super::linalg::{Route, SpdSolver};
@@ -113,6 +114,20 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     energy: PlateEnergy,
     track_energy: bool,
     diverged: bool,
+}
+
+impl<C: ModalCoupling + 'static> PlateModel<C> {
+    /// Shares each SAV step's coupling kernel with real-time helpers: the second half of the
+    /// in-plane rows is offered on `board` and taken back after a bounded wait
+    /// ([`super::half_step`]), or the kernel runs in one pass (`None`, the default). Returns
+    /// whether the split is in use (as [`Self::set_step_join`]). Worker thread: allocates
+    /// the job.
+    pub fn set_step_board(&mut self, board: Option<Arc<StepBoard>>) -> bool {
+        match self.sav.as_mut() {
+            Some(sav) => sav.set_board(&self.coupling, board),
+            None => false,
+        }
+    }
 }
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
@@ -272,6 +287,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             Some(sav) => sav.set_join(&*self.coupling, join),
             None => false,
         }
+    }
+
+    /// Whether a real-time helper still holds the second half of an earlier SAV step (see
+    /// [`Self::set_step_board`]). Any thread that owns the model.
+    pub fn step_half_out(&self) -> bool {
+        self.sav.as_ref().is_some_and(|s| s.half_out())
     }
 
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;

@@ -51,12 +51,14 @@
 //! without allocating.
 
 use super::coupling::ModalCoupling;
+use super::half_step::{HalfJob, StepBoard};
 use super::lanes::{lane_sum, lane_sums};
 use super::step_join::StepJoin;
 use std::sync::Arc;
+use std::time::Instant;
 
 /// Scratch and auxiliary state of the SAV scheme (owned by the model, audio thread).
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub(crate) struct SavStep {
     /// `ψ(n-½)` (√J).
     pub psi: f64,
@@ -70,9 +72,8 @@ pub(crate) struct SavStep {
     split: Option<SavSplit>,
 }
 
-/// The second half of a split fused kernel: its rows, gradient and scratch, and the join that
-/// runs the two halves (built on a worker thread; the step runs it, allocation-free).
-#[derive(Clone)]
+/// The second half of a split fused kernel: its rows, gradient and scratch, and who runs it
+/// (built on a worker thread; the step runs it, allocation-free).
 struct SavSplit {
     /// First in-plane row of the second half.
     row: usize,
@@ -80,7 +81,18 @@ struct SavSplit {
     g: Vec<f64>,
     /// The second half's kernel scratch (length `3 N_Φ + 8`).
     y: Vec<f64>,
-    join: Arc<dyn StepJoin>,
+    runner: HalfRunner,
+}
+
+/// Who runs the second half.
+enum HalfRunner {
+    /// A join that returns when both halves are done (offline helpers, [`super::StepJoin`]).
+    Join(Arc<dyn StepJoin>),
+    /// A real-time helper through a board, with a bounded wait ([`super::half_step`]).
+    Board {
+        board: Arc<StepBoard>,
+        job: Box<HalfJob>,
+    },
 }
 
 impl std::fmt::Debug for SavSplit {
@@ -128,19 +140,61 @@ impl SavStep {
         join: Option<Arc<dyn StepJoin>>,
     ) -> bool {
         self.split = None;
-        let (nf, np) = (self.g.len(), self.w.len());
         let Some(join) = join else { return false };
-        if np < 2 {
+        let Some(row) = self.probe_split(coupling) else {
             return false;
+        };
+        self.split = Some(self.new_split(row, HalfRunner::Join(join)));
+        true
+    }
+
+    /// Runs the fused kernel as two halves, the second offered to real-time helpers through
+    /// `board` with a bounded wait ([`super::half_step`]; `None`: one pass). The same
+    /// conditions and summation order as [`Self::set_join`], so the bits do not depend on who
+    /// ran the second half. Worker thread (allocates).
+    pub(crate) fn set_board<C: ModalCoupling + 'static>(
+        &mut self,
+        coupling: &Arc<C>,
+        board: Option<Arc<StepBoard>>,
+    ) -> bool {
+        self.split = None;
+        let Some(board) = board else { return false };
+        let Some(row) = self.probe_split(&**coupling) else {
+            return false;
+        };
+        let (nf, np) = (self.g.len(), self.w.len());
+        let job = HalfJob::new(coupling, row..np, nf, np, self.y.len());
+        self.split = Some(self.new_split(row, HalfRunner::Board { board, job }));
+        true
+    }
+
+    /// The split row, if `coupling` has a row-range kernel and there are two in-plane modes.
+    fn probe_split<C: ModalCoupling + ?Sized>(&self, coupling: &C) -> Option<usize> {
+        let (nf, np) = (self.g.len(), self.w.len());
+        if np < 2 {
+            return None;
         }
         let row = coupling.split_row().clamp(1, np - 1);
         let (q, mut g, mut y) = (vec![0.0; nf], vec![0.0; nf], vec![0.0; self.y.len()]);
         let mut eta = vec![0.0; np - row];
-        if !coupling.quartic_gradient_rows(row..np, &q, &vec![0.0; np], &mut eta, &mut g, &mut y) {
-            return false;
+        coupling
+            .quartic_gradient_rows(row..np, &q, &vec![0.0; np], &mut eta, &mut g, &mut y)
+            .then_some(row)
+    }
+
+    fn new_split(&self, row: usize, runner: HalfRunner) -> SavSplit {
+        SavSplit {
+            row,
+            g: vec![0.0; self.g.len()],
+            y: vec![0.0; self.y.len()],
+            runner,
         }
-        self.split = Some(SavSplit { row, g, y, join });
-        true
+    }
+
+    /// Whether a real-time helper still holds the second half of an earlier step (the owner
+    /// computed that half itself after the bounded wait; telemetry and tests).
+    pub(crate) fn half_out(&self) -> bool {
+        matches!(&self.split, Some(SavSplit { runner: HalfRunner::Board { job, .. }, .. }) if job.is_out())
     }
 
     /// The fused kernel `w = Ĥ(q,q)`, `g = ∇U(q)` as one pass or two halves (see
@@ -160,10 +214,23 @@ impl SavStep {
         let (g_a, y_a) = (&mut self.g, &mut self.y);
         let (g_b, y_b) = (&mut split.g, &mut split.y);
         let (mut ok_a, mut ok_b) = (false, false);
-        split.join.join(
-            &mut || ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a),
-            &mut || ok_b = coupling.quartic_gradient_rows(row..np, q, u_coef, w_b, g_b, y_b),
-        );
+        match &split.runner {
+            HalfRunner::Join(join) => join.join(
+                &mut || ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a),
+                &mut || ok_b = coupling.quartic_gradient_rows(row..np, q, u_coef, w_b, g_b, y_b),
+            ),
+            HalfRunner::Board { board, job } => {
+                let offered = job.offer(board, q, u_coef);
+                let start = Instant::now();
+                ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a);
+                if offered {
+                    job.finish(board, start.elapsed(), q, u_coef, w_b, g_b, y_b);
+                } else {
+                    job.run_here(q, u_coef, w_b, g_b, y_b);
+                }
+                ok_b = true;
+            }
+        }
         debug_assert!(ok_a && ok_b, "set_join probed the split kernel");
         for (g, &gb) in self.g.iter_mut().zip(&split.g) {
             *g += gb;

@@ -1,0 +1,548 @@
+//! The second half of a SAV step offered to another real-time thread, with a bounded wait and
+//! a defined fallback: how the engine's voice pool shares one heavy voice's step between two
+//! cores (the offline [`super::StepJoin`] waits without a bound, which the audio thread may
+//! not).
+//!
+//! # Protocol
+//!
+//! A plate model whose SAV kernel is split ([`super::ModalCoupling::split_row`]) owns one
+//! [`HalfJob`] for the second half of the in-plane rows. Each step, its owner (the thread that
+//! steps the voice):
+//!
+//! 1. if the job is at rest and the [`StepBoard`] is open, copies `q` and the in-plane
+//!    weights into the job, marks it `POSTED` (release) and puts it on the board;
+//! 2. runs the first half itself;
+//! 3. takes the job off the board and tries `POSTED → IDLE`: if no helper took it, it runs the
+//!    second half itself (no wait); if a helper did (`TAKEN`), it waits for `DONE` at most
+//!    [`StepBoard::wait_for`] its own half's time, then copies the helper's result; when the
+//!    wait runs out (the helper was pre-empted), it runs the second half itself into its own
+//!    buffers and leaves the job to the helper, offering nothing until the job is `DONE`.
+//!
+//! ```text
+//! IDLE ──(owner: post)──> POSTED ──(helper: CAS)──> TAKEN ──(helper: store)──> DONE
+//!   ^                        │                                                    │
+//!   └────(owner: CAS, runs the half itself)──┘    (owner: result copied) ─────────┘
+//! ```
+//!
+//! The helper reads only the job's own copies of `q` and the weights and writes only the job's
+//! outputs, so a late helper never races the owner, which has moved on. Both run the same
+//! kernel on the same inputs, so the step has the same bits whoever ran the half.
+//!
+//! # Lifetime
+//!
+//! A helper reaches a job through the board's pointer, so the job (and the model's coupling
+//! tensor, which it reads) must outlive every helper that may have loaded it. The engine
+//! guarantees it as it does for voice jobs: helpers run [`StepBoard::help`] only while
+//! counted as busy by the voice pool, and a bank (its voices, models and jobs) leaves the audio
+//! thread only when the pool is quiescent. As a last guard, dropping a job waits until no
+//! helper runs it (the drop happens on a builder thread).
+//!
+//! Threads: [`HalfJob`] and [`StepBoard`] are built on a worker thread; the owner's side runs
+//! on whichever real-time thread steps the voice, the helper's on a pool worker; neither
+//! allocates, locks or waits without a bound.
+
+use super::coupling::ModalCoupling;
+use std::cell::UnsafeCell;
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, AtomicU8, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Smallest coupling tensor (stored entries) whose SAV step is worth sharing between two
+/// threads: below it the hand-over (a few hundred nanoseconds to a few microseconds per step)
+/// is a large share of a step (at 84 000 entries, 510 × 15 mirror modes, a step takes about
+/// 20 µs; docs/performance.md).
+pub const SPLIT_MIN_ENTRIES: usize = 150_000;
+
+const IDLE: u8 = 0;
+const POSTED: u8 = 1;
+const TAKEN: u8 = 2;
+const DONE: u8 = 3;
+
+/// The kernel of the coupling type a job was built for, behind a type-erased pointer.
+type KernelFn =
+    unsafe fn(*const (), Range<usize>, &[f64], &[f64], &mut [f64], &mut [f64], &mut [f64]) -> bool;
+
+/// # Safety
+///
+/// `c` must point to a live `C`.
+unsafe fn kernel_of<C: ModalCoupling>(
+    c: *const (),
+    rows: Range<usize>,
+    q: &[f64],
+    w: &[f64],
+    eta: &mut [f64],
+    g: &mut [f64],
+    y: &mut [f64],
+) -> bool {
+    // SAFETY: the caller's contract.
+    let c = unsafe { &*(c as *const C) };
+    c.quartic_gradient_rows(rows, q, w, eta, g, y)
+}
+
+/// The job's buffers: inputs written by the owner before `POSTED`, outputs written by the
+/// helper between `TAKEN` and `DONE`.
+struct Buffers {
+    q: Box<[f64]>,
+    w: Box<[f64]>,
+    eta: Box<[f64]>,
+    g: Box<[f64]>,
+    y: Box<[f64]>,
+}
+
+/// The second half of one model's split SAV kernel, as a job another thread may run (module
+/// docs). Owned (boxed, so its address is fixed) by the model's SAV scratch.
+pub struct HalfJob {
+    state: AtomicU8,
+    /// The model's coupling (`*const C`), alive as long as the model.
+    coupling: *const (),
+    kernel: KernelFn,
+    rows: Range<usize>,
+    buf: UnsafeCell<Buffers>,
+}
+
+// SAFETY: `buf` is accessed by one thread at a time, as the state machine of the module docs
+// says: the owner while the job is IDLE (and DONE, after its acquire load), the helper whose
+// POSTED → TAKEN exchange succeeded until its release store of DONE. `coupling` is only read
+// (the kernel takes `&C`, and `C: Sync` as every `ModalCoupling`).
+unsafe impl Sync for HalfJob {}
+// SAFETY: as above; the raw pointer is the model's own coupling, which moves with it.
+unsafe impl Send for HalfJob {}
+
+/// How the second half of one step was computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum HalfOutcome {
+    /// By a helper, in parallel with the owner's half.
+    Shared,
+    /// By the owner (no helper took it, the board was closed or taken, or the job was still
+    /// out with a late helper).
+    Own,
+    /// By the owner after the bounded wait for a helper that took it ran out.
+    Late,
+}
+
+impl HalfJob {
+    /// A job for rows `rows` of `coupling`'s kernel with `n_phi` modes, `n_psi` in-plane
+    /// weights and kernel scratch of `y_len` values. Worker thread (allocates).
+    pub(crate) fn new<C: ModalCoupling + 'static>(
+        coupling: &Arc<C>,
+        rows: Range<usize>,
+        n_phi: usize,
+        n_psi: usize,
+        y_len: usize,
+    ) -> Box<HalfJob> {
+        Box::new(HalfJob {
+            state: AtomicU8::new(IDLE),
+            coupling: Arc::as_ptr(coupling) as *const (),
+            kernel: kernel_of::<C>,
+            buf: UnsafeCell::new(Buffers {
+                q: vec![0.0; n_phi].into(),
+                w: vec![0.0; n_psi].into(),
+                eta: vec![0.0; rows.len()].into(),
+                g: vec![0.0; n_phi].into(),
+                y: vec![0.0; y_len].into(),
+            }),
+            rows,
+        })
+    }
+
+    /// Helper: runs the job if it is posted (`POSTED → TAKEN`, run, `DONE`); whether it ran.
+    fn try_run(&self) -> bool {
+        if self
+            .state
+            .compare_exchange(POSTED, TAKEN, Ordering::Acquire, Ordering::Relaxed)
+            .is_err()
+        {
+            return false;
+        }
+        // SAFETY: the successful exchange makes this thread the buffers' only user until the
+        // DONE store (module docs); the acquire pairs with the owner's release store of
+        // POSTED, after its writes of `q` and `w`. The coupling outlives the job.
+        unsafe {
+            let b = &mut *self.buf.get();
+            (self.kernel)(
+                self.coupling,
+                self.rows.clone(),
+                &b.q,
+                &b.w,
+                &mut b.eta,
+                &mut b.g,
+                &mut b.y,
+            );
+        }
+        self.state.store(DONE, Ordering::Release);
+        true
+    }
+
+    /// Owner, step 1: offers the half for `q` and in-plane weights `w` on `board`. Returns
+    /// whether it is posted; `false` (run the half yourself) when the board is closed or holds
+    /// another job, or this job is still out with a late helper.
+    pub(crate) fn offer(&self, board: &StepBoard, q: &[f64], w: &[f64]) -> bool {
+        if !board.open.load(Ordering::Relaxed) {
+            return false;
+        }
+        match self.state.load(Ordering::Acquire) {
+            IDLE => {}
+            // A late helper has finished since: the job is the owner's again.
+            DONE => self.state.store(IDLE, Ordering::Relaxed),
+            _ => return false,
+        }
+        {
+            // SAFETY: IDLE: no helper uses the buffers (module docs).
+            let b = unsafe { &mut *self.buf.get() };
+            b.q.copy_from_slice(q);
+            b.w.copy_from_slice(w);
+        }
+        self.state.store(POSTED, Ordering::Release);
+        let me = self as *const HalfJob as *mut HalfJob;
+        if board
+            .slot
+            .compare_exchange(
+                std::ptr::null_mut(),
+                me,
+                Ordering::AcqRel,
+                Ordering::Relaxed,
+            )
+            .is_ok()
+        {
+            return true;
+        }
+        // Another job holds the board; nobody can have seen this one.
+        self.state.store(IDLE, Ordering::Relaxed);
+        false
+    }
+
+    /// Owner, step 3, after an offer that returned `true` and the owner's own half (which
+    /// took `own`): withdraws the offer and gets the half into `eta`, `g` (and the kernel
+    /// scratch `y`): the helper's result, or the owner's own run of [`Self::run_here`] on `q`,
+    /// `w` when no helper took it or the bounded wait ran out.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn finish(
+        &self,
+        board: &StepBoard,
+        own: Duration,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        g: &mut [f64],
+        y: &mut [f64],
+    ) -> HalfOutcome {
+        let me = self as *const HalfJob as *mut HalfJob;
+        let _ = board.slot.compare_exchange(
+            me,
+            std::ptr::null_mut(),
+            Ordering::AcqRel,
+            Ordering::Relaxed,
+        );
+        if self
+            .state
+            .compare_exchange(POSTED, IDLE, Ordering::Acquire, Ordering::Relaxed)
+            .is_ok()
+        {
+            self.run_here(q, w, eta, g, y);
+            return HalfOutcome::Own;
+        }
+        // TAKEN or DONE: a helper has it. Wait a bounded time.
+        let limit = board.wait_for(own);
+        let start = Instant::now();
+        loop {
+            if self.state.load(Ordering::Acquire) == DONE {
+                // SAFETY: DONE (acquire): the helper has stored its result and no longer
+                // touches the buffers; the owner resets the job to IDLE after reading.
+                let b = unsafe { &*self.buf.get() };
+                eta.copy_from_slice(&b.eta);
+                g.copy_from_slice(&b.g);
+                self.state.store(IDLE, Ordering::Release);
+                board.shared.fetch_add(1, Ordering::Relaxed);
+                return HalfOutcome::Shared;
+            }
+            if start.elapsed() > limit {
+                break;
+            }
+            std::hint::spin_loop();
+        }
+        // The helper is late: compute the half here; the job stays with the helper.
+        board.late.fetch_add(1, Ordering::Relaxed);
+        self.run_here(q, w, eta, g, y);
+        HalfOutcome::Late
+    }
+
+    /// The half on the calling thread, into the caller's buffers (never the job's).
+    pub(crate) fn run_here(
+        &self,
+        q: &[f64],
+        w: &[f64],
+        eta: &mut [f64],
+        g: &mut [f64],
+        y: &mut [f64],
+    ) {
+        // SAFETY: the coupling outlives the job, and the job is the model's.
+        let ok = unsafe { (self.kernel)(self.coupling, self.rows.clone(), q, w, eta, g, y) };
+        debug_assert!(ok, "the split kernel was probed at build");
+    }
+
+    /// Whether a helper holds the job (taken and not yet done).
+    pub(crate) fn is_out(&self) -> bool {
+        self.state.load(Ordering::Acquire) == TAKEN
+    }
+}
+
+impl Drop for HalfJob {
+    fn drop(&mut self) {
+        // The engine drops a bank only when no helper can reach it (module docs); should a
+        // helper still run this job, wait for it (a builder thread, never the audio thread).
+        while self.state.load(Ordering::Acquire) == TAKEN {
+            std::thread::yield_now();
+        }
+    }
+}
+
+impl std::fmt::Debug for HalfJob {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("HalfJob")
+            .field("rows", &self.rows)
+            .field("state", &self.state.load(Ordering::Relaxed))
+            .finish()
+    }
+}
+
+/// Where owners post the halves of their steps and helpers find them: one slot (two cores
+/// share at most one voice's step), open only while helpers are there to take a job, and
+/// counters of what happened. Shared by the engine's voice pool and its bank's models.
+#[derive(Debug, Default)]
+pub struct StepBoard {
+    slot: AtomicPtr<HalfJob>,
+    open: AtomicBool,
+    /// Halves run by a helper.
+    shared: AtomicU64,
+    /// Halves a helper took but the owner computed itself after the bounded wait.
+    late: AtomicU64,
+}
+
+impl StepBoard {
+    /// An empty, closed board (main thread).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Opens or closes the board: owners offer halves only while it is open, that is while a
+    /// helper polls it (the voice pool, per chunk). Any thread.
+    pub fn set_open(&self, open: bool) {
+        self.open.store(open, Ordering::SeqCst);
+    }
+
+    /// Helper: runs the posted half, if any; whether it ran one. Any real-time thread; no
+    /// allocation.
+    ///
+    /// # Safety
+    ///
+    /// Every job that may be on the board (since the caller's last quiescent point) must be
+    /// alive until this returns: the voice pool calls it only while counted as busy, and
+    /// banks are dropped only when it is quiescent (module docs).
+    pub unsafe fn help(&self) -> bool {
+        let p = self.slot.load(Ordering::Acquire);
+        if p.is_null() {
+            return false;
+        }
+        // SAFETY: the caller's contract keeps the job alive.
+        unsafe { &*p }.try_run()
+    }
+
+    /// How long an owner whose own half took `own` waits for a helper's half: twice that,
+    /// plus 20 µs for the hand-over (the halves are balanced, so a helper that is running
+    /// finishes within about `own`).
+    pub fn wait_for(&self, own: Duration) -> Duration {
+        own * 2 + Duration::from_micros(20)
+    }
+
+    /// Halves run by a helper since the board was made.
+    pub fn shared_halves(&self) -> u64 {
+        self.shared.load(Ordering::Relaxed)
+    }
+
+    /// Halves whose helper was late (the owner computed them after the bounded wait).
+    pub fn late_halves(&self) -> u64 {
+        self.late.load(Ordering::Relaxed)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+    use std::sync::atomic::AtomicBool;
+
+    thread_local! {
+        static SLOW_HERE: Cell<bool> = const { Cell::new(false) };
+    }
+    /// Lets the kernels held on `SLOW_HERE` threads finish.
+    static RELEASE: AtomicBool = AtomicBool::new(false);
+
+    /// A coupling whose row-range kernel is a cheap deterministic function of its inputs
+    /// (`eta_l = (l + 1) Σ q`, `g_s = w_0 q_s Σ_rows (l + 1)`) and sleeps 50 ms on threads that
+    /// set `SLOW_HERE` (a pre-empted helper).
+    struct Toy;
+
+    impl ModalCoupling for Toy {
+        fn n_phi(&self) -> usize {
+            3
+        }
+        fn n_psi(&self) -> usize {
+            4
+        }
+        fn contract_eta(&self, _: &[f64], _: &[f64], out: &mut [f64]) {
+            out.fill(0.0);
+        }
+        fn apply_force(&self, _: &[f64], _: &[f64], out: &mut [f64]) {
+            out.fill(0.0);
+        }
+        fn coupling_matrix(&self, _: &[f64], g: &mut [f64]) {
+            g.fill(0.0);
+        }
+        fn quartic_gradient_rows(
+            &self,
+            rows: Range<usize>,
+            q: &[f64],
+            w: &[f64],
+            eta: &mut [f64],
+            grad: &mut [f64],
+            _scratch: &mut [f64],
+        ) -> bool {
+            if SLOW_HERE.with(|s| s.get()) {
+                while !RELEASE.load(Ordering::Acquire) {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            }
+            let sum: f64 = q.iter().sum();
+            let weight: f64 = rows.clone().map(|l| (l + 1) as f64).sum();
+            for (e, l) in eta.iter_mut().zip(rows) {
+                *e = (l + 1) as f64 * sum;
+            }
+            for (g, &x) in grad.iter_mut().zip(q) {
+                *g = w[0] * x * weight;
+            }
+            true
+        }
+    }
+
+    fn job() -> Box<HalfJob> {
+        HalfJob::new(&Arc::new(Toy), 2..4, 3, 4, 8)
+    }
+
+    /// The half computed here, for comparison: `(eta, g)`.
+    fn reference(job: &HalfJob, q: &[f64], w: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
+        job.run_here(q, w, &mut eta, &mut g, &mut y);
+        (eta, g)
+    }
+
+    /// Spins until the job leaves `POSTED` (a helper took it), at most 10 s.
+    fn until_taken(job: &HalfJob) {
+        let t = Instant::now();
+        while job.state.load(Ordering::Acquire) == POSTED && t.elapsed() < Duration::from_secs(10) {
+            std::hint::spin_loop();
+        }
+    }
+
+    /// A closed board takes no offer; an open one with no helper gives the half back to the
+    /// owner, who computes it (same result).
+    #[test]
+    fn without_a_helper_the_owner_runs_the_half() {
+        let (board, job) = (StepBoard::new(), job());
+        let (q, w) = ([1.0, 2.0, 3.0], [0.5, 0.0, 0.0, 0.0]);
+        assert!(!job.offer(&board, &q, &w), "closed board");
+        board.set_open(true);
+        assert!(job.offer(&board, &q, &w));
+        let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
+        let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+        assert_eq!(out, HalfOutcome::Own);
+        assert_eq!((eta, g), reference(&job, &q, &w));
+        assert_eq!(
+            board.slot.load(Ordering::Relaxed),
+            std::ptr::null_mut(),
+            "withdrawn"
+        );
+    }
+
+    /// A helper takes each posted half and its result is the owner's, bit for bit; the board
+    /// holds one job at a time.
+    #[test]
+    fn a_helper_runs_the_half_with_the_same_bits() {
+        let board = Arc::new(StepBoard::new());
+        board.set_open(true);
+        let (job, other) = (job(), job());
+        let stop = Arc::new(AtomicBool::new(false));
+        let helper = {
+            let (board, stop) = (board.clone(), stop.clone());
+            std::thread::spawn(move || {
+                while !stop.load(Ordering::Relaxed) {
+                    // SAFETY: both jobs outlive the helper (joined below).
+                    if !unsafe { board.help() } {
+                        std::hint::spin_loop();
+                    }
+                }
+            })
+        };
+        for k in 0..200 {
+            let q = [k as f64, 0.25 * k as f64, -1.0];
+            let w = [1.0 + k as f64, 0.0, 0.0, 0.0];
+            assert!(job.offer(&board, &q, &w));
+            assert!(
+                !other.offer(&board, &q, &w),
+                "one job on the board at a time"
+            );
+            until_taken(&job);
+            let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
+            let out = job.finish(
+                &board,
+                Duration::from_secs(10),
+                &q,
+                &w,
+                &mut eta,
+                &mut g,
+                &mut y,
+            );
+            assert_eq!(out, HalfOutcome::Shared, "step {k}");
+            assert_eq!((eta, g), reference(&job, &q, &w), "step {k}");
+        }
+        assert_eq!(board.shared_halves(), 200);
+        stop.store(true, Ordering::Relaxed);
+        helper.join().unwrap();
+    }
+
+    /// A helper pre-empted in the middle of a half (held until released): the owner returns
+    /// after its bounded wait with the half computed itself (same result) while the helper
+    /// still holds the job, offers nothing until the helper is done, then offers again.
+    #[test]
+    fn a_late_helper_is_not_waited_for() {
+        let board = Arc::new(StepBoard::new());
+        board.set_open(true);
+        let job = job();
+        let (q, w) = ([1.0, -2.0, 0.5], [3.0, 0.0, 0.0, 0.0]);
+        assert!(job.offer(&board, &q, &w));
+        let job_ptr = &*job as *const HalfJob as usize;
+        let helper = {
+            let board = board.clone();
+            std::thread::spawn(move || {
+                SLOW_HERE.with(|s| s.set(true));
+                // SAFETY: the job outlives the helper (joined below).
+                while !unsafe { board.help() } {
+                    std::hint::spin_loop();
+                }
+                job_ptr
+            })
+        };
+        until_taken(&job);
+        let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
+        let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+        assert_eq!(out, HalfOutcome::Late);
+        assert!(job.is_out(), "the owner did not wait for the held helper");
+        assert_eq!((eta, g), reference(&job, &q, &w));
+        assert_eq!(board.late_halves(), 1);
+        assert!(!job.offer(&board, &q, &w), "the job is still out");
+        RELEASE.store(true, Ordering::Release);
+        helper.join().unwrap();
+        assert!(!job.is_out());
+        assert!(job.offer(&board, &q, &w), "the job is the owner's again");
+    }
+}

@@ -1,0 +1,166 @@
+//! One heavy voice on two cores: a plate voice whose coupling tensor has at least
+//! `SPLIT_MIN_ENTRIES` entries offers the second half of each step to the voice pool's workers
+//! (`models::plate::half_step`), with a bounded wait and the owner computing the half itself
+//! when no worker takes it in time.
+//!
+//! - The output does not depend on the thread count, bit for bit: the split's summation order
+//!   is fixed whoever runs the half (with `threads` 1 the voice runs both halves itself).
+//!   Tolerance: none. Negative control: a 1e-4 change of the velocity changes the output.
+//! - With workers, they do run halves (the test is not vacuous).
+//! - Nothing allocates, on the audio thread (`assert_no_alloc`) or in a worker's job loop,
+//!   which includes its help on the board (the test allocator; tolerance 0).
+
+use super::engine_threads::has_workers;
+use assert_no_alloc::assert_no_alloc;
+use noether::engine::{Engine, Event, EventKind, ParamId, Preset, SharedParams};
+use noether::models::plate::SPLIT_MIN_ENTRIES;
+use std::sync::Arc;
+
+/// The gong-40N preset with a 9 kHz band: its root key keeps about 800 strike-mirror modes
+/// (15 in-plane), a tensor of about 2e5 entries, above `SPLIT_MIN_ENTRIES`; one voice.
+fn heavy_gong(threads: f32) -> (Engine, Arc<SharedParams>) {
+    let params = Arc::new(SharedParams::new());
+    Preset::factory_named("gong-40N")
+        .unwrap()
+        .apply(&params)
+        .unwrap();
+    for (id, x) in [
+        (ParamId::Polyphony, 1.0),
+        (ParamId::BandLimit, 9000.0),
+        (ParamId::Modes, 900.0),
+        (ParamId::Threads, threads),
+    ] {
+        params.set(id, x).unwrap();
+    }
+    let (mut e, _h) = Engine::new(params.clone());
+    e.activate(48_000.0, 256).unwrap();
+    (e, params)
+}
+
+/// One root-key note (C4) struck at `velocity`, `blocks` blocks of 256 samples.
+fn note(blocks: usize, velocity: f32) -> Vec<Vec<Event>> {
+    (0..blocks)
+        .map(|b| {
+            if b == 0 {
+                vec![Event::new(7, EventKind::NoteOn { key: 60, velocity })]
+            } else {
+                Vec::new()
+            }
+        })
+        .collect()
+}
+
+fn render(threads: f32, seq: &[Vec<Event>]) -> (Vec<f32>, Engine) {
+    let (mut e, _p) = heavy_gong(threads);
+    let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
+    let mut out = Vec::with_capacity(seq.len() * 512);
+    for ev in seq {
+        assert_no_alloc(|| e.process_events(ev, &mut l, &mut r));
+        out.extend(l.iter().zip(&r).flat_map(|(a, b)| [*a, *b]));
+    }
+    (out, e)
+}
+
+#[test]
+fn a_split_voice_sounds_the_same_on_one_or_two_threads() {
+    let seq = note(40, 1.0); // 0.21 s
+    let (one, e1) = render(1.0, &seq);
+    let model = e1.voice_model(0).expect("the note's voice");
+    println!(
+        "root key: {} x {} modes at {} Hz; split from {SPLIT_MIN_ENTRIES} entries",
+        model.n_phi, model.n_psi, model.sim_rate
+    );
+    assert_eq!(e1.shared_step_halves(), 0, "threads = 1 shares nothing");
+    let peak = one.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    assert!(peak > 1e-3 && peak.is_finite(), "silent: {peak}");
+    let (two, e2) = render(0.0, &seq);
+    println!(
+        "threads 0: {} halves on a worker, {} late",
+        e2.shared_step_halves(),
+        e2.late_step_halves()
+    );
+    if has_workers() {
+        assert!(e2.shared_step_halves() > 0, "no half ran on a worker");
+    }
+    let diff = one
+        .iter()
+        .zip(&two)
+        .position(|(a, b)| a.to_bits() != b.to_bits());
+    assert_eq!(diff, None, "threads 0 differs from threads 1");
+    let (other, _) = render(1.0, &note(40, 0.9999));
+    assert!(one
+        .iter()
+        .zip(&other)
+        .any(|(a, b)| a.to_bits() != b.to_bits()));
+}
+
+#[test]
+fn split_steps_never_allocate_in_any_thread() {
+    assert!(noether_testkit::alloc::installed());
+    let before = noether_testkit::alloc::voice_job_allocations();
+    let (mut e, params) = heavy_gong(0.0);
+    let (mut l, mut r) = (vec![0.0f32; 4096], vec![0.0f32; 4096]);
+    for (b, ev) in note(30, 1.0).iter().enumerate() {
+        // Block lengths 1 to 4096; `threads` changes block to block (no rebuild).
+        let n = [256usize, 1, 64, 4096, 333][b % 5];
+        params.set(ParamId::Threads, (b % 3) as f32).unwrap();
+        assert_no_alloc(|| e.process_events(ev, &mut l[..n], &mut r[..n]));
+        assert!(l[..n].iter().chain(&r[..n]).all(|x| x.is_finite()));
+    }
+    e.deactivate();
+    let during = noether_testkit::alloc::voice_job_allocations() - before;
+    println!(
+        "{} halves on a worker, {} allocations in job loops",
+        e.shared_step_halves(),
+        during
+    );
+    if has_workers() {
+        assert!(e.shared_step_halves() > 0, "no half ran on a worker");
+    }
+    assert_eq!(during, 0, "allocations inside the voice pool's job loop");
+}
+
+/// A rebuild while the split voice sounds: the old bank (whose voice may still have a half on
+/// the board or with a worker) cross-fades out and leaves the audio thread only when the pool
+/// is quiescent; nothing allocates, the output stays finite, and the new bank's voice splits
+/// its steps too.
+#[test]
+fn a_rebuild_under_a_split_voice_is_safe() {
+    let (mut e, params) = heavy_gong(0.0);
+    let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
+    let first = e.bank_id();
+    let on = [Event::new(
+        0,
+        EventKind::NoteOn {
+            key: 60,
+            velocity: 1.0,
+        },
+    )];
+    let mut swapped_at = None;
+    // At most 20 000 blocks (107 s of audio): the rebuild takes about a second of wall time.
+    for b in 0..20_000 {
+        if b == 10 {
+            params.set(ParamId::InPlaneModes, 14.0).unwrap();
+        }
+        let ev: &[Event] = if b == 0 || swapped_at == Some(b) {
+            &on
+        } else {
+            &[]
+        };
+        assert_no_alloc(|| e.process_events(ev, &mut l, &mut r));
+        assert!(l.iter().chain(&r).all(|x| x.is_finite()), "block {b}");
+        if swapped_at.is_none() && e.bank_id() != first {
+            swapped_at = Some(b + 1);
+        }
+        if swapped_at.is_some_and(|s| b > s + 20) {
+            break;
+        }
+    }
+    let swapped = swapped_at.expect("the rebuild arrived");
+    let halves = e.shared_step_halves();
+    println!("bank swapped at block {swapped}; {halves} halves on a worker");
+    if has_workers() {
+        assert!(halves > 0, "no half ran on a worker");
+    }
+    e.deactivate();
+}
