@@ -60,10 +60,6 @@ pub(crate) struct Bank {
     pub lanes: Box<Lanes>,
     /// Output scale (1 / velocity reference).
     pub norm: f64,
-    /// Some plate voice offers the second half of its steps on the pool's board (its
-    /// coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries): chunks ask the pool's
-    /// workers to help.
-    pub split_steps: bool,
     /// The parameters it was built from (the last good model when a later set is refused).
     pub values: ParamValues,
 }
@@ -85,7 +81,6 @@ impl Bank {
         let modes = v.index_of(ParamId::Modes).max(1);
         let mut voices = Vec::with_capacity(voices_n);
         let (norm, sim_rate);
-        let mut split_steps = false;
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
             sim_rate = plate_sim_rate(
@@ -93,7 +88,7 @@ impl Bank {
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
             );
-            (voices, split_steps) = plate_voices(kind, v, sim_rate, voices_n, cache, board)?;
+            voices = plate_voices(kind, v, sim_rate, voices_n, cache, board)?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
             sim_rate = v.get(ParamId::SimRate) as f64;
@@ -193,7 +188,6 @@ impl Bank {
             sim_r: vec![0.0; max_in],
             lanes: Lanes::new(voices_n, max_in),
             norm,
-            split_steps,
             values: *v,
         })
     }

@@ -99,12 +99,13 @@ pub(crate) fn run_bank(
             settle(unsafe { &mut *base.add(i) }, ok, t);
         }
     }
-    let mut queued = 0u64;
+    let (mut queued, mut assist) = (0u64, false);
     for i in 0..n {
         // SAFETY: `base` is this chunk's, `i < n`, the bank is held exclusively; the reference
         // ends within the iteration.
         if let Some(v) = unsafe { voice_at(base, lanes, i) } {
             if v.active {
+                assist |= v.offers_step_halves();
                 lanes.queue(i, v, m, b.norm);
                 queued |= 1 << i;
             }
@@ -118,8 +119,8 @@ pub(crate) fn run_bank(
         return lanes.any_busy();
     }
     match share.pool {
-        Some(p) if share.helpers > 0 && (queued.count_ones() > 1 || b.split_steps) => {
-            p.run(lanes, queued, share.helpers, share.wait, b.split_steps)
+        Some(p) if share.helpers > 0 && (queued.count_ones() > 1 || assist) => {
+            p.run(lanes, queued, share.helpers, share.wait, assist)
         }
         _ => {
             lanes.claim(0);

@@ -153,7 +153,7 @@ pub(crate) fn plate_voices(
     voices_n: usize,
     cache: &mut ModalCache,
     board: &Arc<StepBoard>,
-) -> Result<(Vec<Voice>, bool), ParamError> {
+) -> Result<Vec<Voice>, ParamError> {
     let modes = v.index_of(ParamId::Modes).max(1);
     let n_psi = v.index_of(ParamId::InPlaneModes);
     let m = Material::from_params(v);
@@ -201,7 +201,6 @@ pub(crate) fn plate_voices(
         })
         .collect::<Result<Vec<_>, _>>()?;
     let mut voices = Vec::with_capacity(voices_n);
-    let mut split = false;
     for _ in 0..voices_n {
         let mut models = Vec::with_capacity(tiers.len());
         for (&(n, m), coupling) in tiers.iter().zip(&couplings) {
@@ -224,7 +223,7 @@ pub(crate) fn plate_voices(
             ];
             let mut model = PlateModel::new(&params, coupling.clone(), vec![0.0; n], pickups)?;
             if coupling.nnz() >= SPLIT_MIN_ENTRIES {
-                split |= model.set_step_board(Some(board.clone()));
+                model.set_step_board(Some(board.clone()));
             }
             models.push(model);
         }
@@ -234,5 +233,5 @@ pub(crate) fn plate_voices(
             sim_rate,
         )))));
     }
-    Ok((voices, split))
+    Ok(voices)
 }

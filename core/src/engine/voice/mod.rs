@@ -122,6 +122,15 @@ impl Voice {
         }
     }
 
+    /// Whether the model of the voice's current note offers the second half of its steps to
+    /// the voice pool's workers (a plate tier with a large coupling tensor). Audio thread.
+    pub fn offers_step_halves(&self) -> bool {
+        match &self.model {
+            VoiceModel::Plate(pv) => pv.model().offers_step_halves(),
+            _ => false,
+        }
+    }
+
     /// Whether the voice is in its release (key up and not sustained).
     pub fn released(&self) -> bool {
         !self.held && !self.sustained

@@ -282,7 +282,8 @@ impl HalfJob {
     }
 
     /// Whether a helper holds the job (taken and not yet done).
-    pub(crate) fn is_out(&self) -> bool {
+    #[cfg(test)]
+    fn is_out(&self) -> bool {
         self.state.load(Ordering::Acquire) == TAKEN
     }
 }

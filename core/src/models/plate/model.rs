@@ -289,10 +289,11 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
     }
 
-    /// Whether a real-time helper still holds the second half of an earlier SAV step (see
-    /// [`Self::set_step_board`]). Any thread that owns the model.
-    pub fn step_half_out(&self) -> bool {
-        self.sav.as_ref().is_some_and(|s| s.half_out())
+    /// Whether each SAV step's second half is offered to real-time helpers
+    /// ([`Self::set_step_board`]): the engine asks its workers to help only then. Any thread
+    /// that owns the model.
+    pub fn offers_step_halves(&self) -> bool {
+        self.sav.as_ref().is_some_and(|s| s.offers_halves())
     }
 
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;

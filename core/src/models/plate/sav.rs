@@ -191,10 +191,16 @@ impl SavStep {
         }
     }
 
-    /// Whether a real-time helper still holds the second half of an earlier step (the owner
-    /// computed that half itself after the bounded wait; telemetry and tests).
-    pub(crate) fn half_out(&self) -> bool {
-        matches!(&self.split, Some(SavSplit { runner: HalfRunner::Board { job, .. }, .. }) if job.is_out())
+    /// Whether the second half of each step is offered to real-time helpers
+    /// ([`Self::set_board`]).
+    pub(crate) fn offers_halves(&self) -> bool {
+        matches!(
+            &self.split,
+            Some(SavSplit {
+                runner: HalfRunner::Board { .. },
+                ..
+            })
+        )
     }
 
     /// The fused kernel `w = Ĥ(q,q)`, `g = ∇U(q)` as one pass or two halves (see
