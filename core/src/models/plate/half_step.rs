@@ -175,8 +175,9 @@ impl HalfJob {
     }
 
     /// Owner, step 1: offers the half for `q` and in-plane weights `w` on `board`. Returns
-    /// whether it is posted; `false` (run the half yourself) when the board is closed or holds
-    /// another job, or this job is still out with a late helper.
+    /// whether it is posted (or already taken: see below), to be ended by [`Self::finish`];
+    /// `false` (run the half yourself) when the board is closed or holds another job, or this
+    /// job is still out with a late helper.
     pub(crate) fn offer(&self, board: &StepBoard, q: &[f64], w: &[f64]) -> bool {
         if !board.open.load(Ordering::Relaxed) {
             return false;
@@ -194,6 +195,8 @@ impl HalfJob {
             b.w.copy_from_slice(w);
         }
         self.state.store(POSTED, Ordering::Release);
+        #[cfg(test)]
+        tests::after_post(self);
         let me = self as *const HalfJob as *mut HalfJob;
         if board
             .slot
@@ -207,9 +210,13 @@ impl HalfJob {
         {
             return true;
         }
-        // Another job holds the board; nobody can have seen this one.
-        self.state.store(IDLE, Ordering::Relaxed);
-        false
+        // Another job holds the board. A helper that loaded this job's pointer during an earlier
+        // step may still take it now (it reaches the job, not the board): take it back only
+        // if it is still posted; otherwise a helper runs it and `finish` waits for it as for
+        // any taken offer.
+        self.state
+            .compare_exchange(POSTED, IDLE, Ordering::Acquire, Ordering::Relaxed)
+            .is_err()
     }
 
     /// Owner, step 3, after an offer that returned `true` and the owner's own half (which
@@ -376,6 +383,18 @@ mod tests {
     thread_local! {
         static SLOW_HERE: Cell<bool> = const { Cell::new(false) };
     }
+    thread_local! {
+        /// A stale helper takes the job right after the owner posts it (this thread).
+        static STALE_TAKE: Cell<bool> = const { Cell::new(false) };
+    }
+
+    /// The test hook of [`HalfJob::offer`], right after the post.
+    pub(super) fn after_post(job: &HalfJob) {
+        if STALE_TAKE.with(|s| s.get()) {
+            assert!(job.try_run());
+        }
+    }
+
     /// Lets the kernels held on `SLOW_HERE` threads finish.
     static RELEASE: AtomicBool = AtomicBool::new(false);
 
@@ -545,5 +564,30 @@ mod tests {
         helper.join().unwrap();
         assert!(!job.is_out());
         assert!(job.offer(&board, &q, &w), "the job is the owner's again");
+    }
+
+    /// A helper that still holds a job's pointer from an earlier step (it reaches the job,
+    /// not the board) may take the job between the owner's post and its finding the board
+    /// held by another job. The owner must then wait for that half as for any taken offer,
+    /// not reset the job to rest under the helper. The helper's take is placed exactly there
+    /// (`after_post`, on the owner's thread).
+    #[test]
+    fn a_helper_with_a_stale_pointer_is_waited_for() {
+        let board = StepBoard::new();
+        board.set_open(true);
+        let (job, blocker) = (job(), job());
+        let (q, w) = ([1.0, 2.0, 3.0], [0.5, 0.0, 0.0, 0.0]);
+        assert!(
+            blocker.offer(&board, &q, &w),
+            "the board is held by another job"
+        );
+        STALE_TAKE.with(|s| s.set(true));
+        let offered = job.offer(&board, &q, &w);
+        STALE_TAKE.with(|s| s.set(false));
+        assert!(offered, "a taken job must be finished, not given up");
+        let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
+        let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+        assert_eq!(out, HalfOutcome::Shared);
+        assert_eq!((eta, g), reference(&job, &q, &w));
     }
 }
