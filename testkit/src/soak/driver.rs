@@ -67,6 +67,8 @@ where
     s.note_rate(rate);
     let mut bank = e.bank_id();
     let mut phase = Phase::Idle { blocks: 20 };
+    // The last burst asked for split steps: `dome` and `boss` stay at 0 until the next burst.
+    let mut flat = false;
     let mut buildable = true;
     loop {
         if start.elapsed() > cfg.wall_limit {
@@ -122,8 +124,9 @@ where
                 }
             }
             Phase::Burst { steps: 0 } => {
-                let want = quality::finish(&mut d, &params, cfg, signature(&e))
+                let (want, keep_flat) = quality::finish(&mut d, &params, cfg, signature(&e))
                     .map_err(|err| fail(&s, err))?;
+                flat = keep_flat;
                 s.param_writes += 7;
                 s.rebuilds_requested += 1;
                 Phase::Waiting {
@@ -187,7 +190,15 @@ where
         let dd = if waiting { &mut dw } else { &mut d };
         let v = params.snapshot();
         for p in PARAMS.iter().filter(|p| !needs_rebuild(p, &v)) {
-            params.set(p.id, dd.value(p)).map_err(|err| fail(&s, err))?;
+            let x = dd.value(p);
+            // A bank asked for split steps keeps its plate flat (the curved plate's kernel does
+            // not split).
+            let x = if flat && matches!(p.id, ParamId::Dome | ParamId::Boss) {
+                0.0
+            } else {
+                x
+            };
+            params.set(p.id, x).map_err(|err| fail(&s, err))?;
             s.param_writes += 1;
         }
         // Now and then a new key table (each key within a semitone of 12-TET, about one in

@@ -89,6 +89,11 @@ pub struct SoakConfig {
     /// Load budget: bursts keep `modes · polyphony · sim_rate` (mode-steps per second of
     /// audio) at most this, lowering polyphony first, then modes.
     pub budget: f64,
+    /// Probability that a burst's final step asks instead for a bank whose plate voices split
+    /// their steps with the voice pool's workers (a `sav` gong of 800 modes with a band of
+    /// about 12 kHz: a coupling tensor above `SPLIT_MIN_ENTRIES`; one voice), outside the
+    /// budget.
+    pub split_chance: f64,
 }
 
 impl SoakConfig {
@@ -97,7 +102,7 @@ impl SoakConfig {
     /// 1.6 ms of CPU each on average, at most 2.4 ms over a longer run, test profile, on the
     /// two-core development machine), up to 40 modes, 10
     /// in-plane modes, 8 voices, simulation rates up to 400 kHz, budget 40 modes × 4 voices ×
-    /// 48 kHz.
+    /// 48 kHz; one burst in ten asks for a bank with split steps.
     pub fn quick(seed: u64, blocks: u64) -> Self {
         Self {
             seed,
@@ -110,6 +115,7 @@ impl SoakConfig {
             max_polyphony: 8,
             max_sim_rate: 400_000.0,
             budget: 40.0 * 4.0 * 48_000.0,
+            split_chance: 0.1,
         }
     }
 }

@@ -13,6 +13,7 @@ use super::draw::Draw;
 use super::SoakConfig;
 use noether_core::engine::{
     plate_sim_rate, Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS,
+    SCHEME_NAMES,
 };
 use noether_core::ParamError;
 
@@ -90,13 +91,19 @@ pub fn step(d: &mut Draw, params: &SharedParams) -> Result<u64, ParamError> {
 /// load budget `cfg.budget` (mode-steps per second of audio; the soak stays bounded in wall
 /// time). For a string model its length (the `size` parameter) is drawn here too. The
 /// simulation rate is moved by 1 % and the band by 2.5 % if the draw equals `current`'s, so
-/// the signature always changes. Returns the requested signature.
+/// the signature always changes. One burst in `1 / cfg.split_chance` asks instead for a gong
+/// whose voice splits its steps ([`finish_split`]). Returns the requested signature and
+/// whether the plate must stay flat while that bank plays (`dome` and `boss` at 0: only a
+/// flat plate runs the fused kernel that splits).
 pub fn finish(
     d: &mut Draw,
     params: &SharedParams,
     cfg: &SoakConfig,
     current: Option<Signature>,
-) -> Result<Signature, ParamError> {
+) -> Result<(Signature, bool), ParamError> {
+    if d.chance(cfg.split_chance) {
+        return Ok((finish_split(d, params, current)?, true));
+    }
     let model = d.below(ModelKind::ALL.len() as u64) as usize;
     let info = |id: ParamId| id.info();
     let rate_hi = cfg.max_sim_rate.min(info(ParamId::SimRate).max as f64);
@@ -158,9 +165,48 @@ pub fn finish(
     params.set(ParamId::SimRate, sim_rate as f32)?;
     params.set(ParamId::BandLimit, band as f32)?;
     params.set(ParamId::Model, model as f32)?;
+    Ok((
+        Signature {
+            model: kind,
+            sim_rate: rate_of(sim_rate, band),
+            polyphony: poly,
+        },
+        false,
+    ))
+}
+
+/// The final step of a burst that asks for split steps: a gong on the `sav` scheme with 15
+/// in-plane modes, `modes` 800 and a band of 11.5 to 12 kHz, so that most notes (whatever
+/// the automated size and thickness) keep all 800 strike-mirror modes, a coupling tensor of
+/// about 1.6e5 entries, above `SPLIT_MIN_ENTRIES`; one voice, the simulation rate from the
+/// band. Returns the requested signature (changed from
+/// `current`: the band moves by 2.5 % if the rate would not).
+fn finish_split(
+    d: &mut Draw,
+    params: &SharedParams,
+    current: Option<Signature>,
+) -> Result<Signature, ParamError> {
+    let sav = SCHEME_NAMES
+        .iter()
+        .position(|n| n.starts_with("SAV") || n.starts_with("sav"))
+        .expect("the sav scheme") as f32;
+    let floor = ParamId::SimRate.info().min as f64;
+    let poly = 1;
+    let mut band = d.between(11_500.0, 12_000.0).round();
+    let rate = |band: f64| plate_sim_rate(band as f32 as f64, floor as f32 as f64, sav as usize);
+    if current.is_some_and(|c| c.sim_rate == rate(band)) {
+        band = (band * 1.025).round();
+    }
+    params.set(ParamId::Scheme, sav)?;
+    params.set(ParamId::Modes, 800.0)?;
+    params.set(ParamId::InPlaneModes, 15.0)?;
+    params.set(ParamId::Polyphony, poly as f32)?;
+    params.set(ParamId::SimRate, floor as f32)?;
+    params.set(ParamId::BandLimit, band as f32)?;
+    params.set(ParamId::Model, 0.0)?;
     Ok(Signature {
-        model: kind,
-        sim_rate: rate_of(sim_rate, band),
+        model: ModelKind::Gong,
+        sim_rate: rate(band),
         polyphony: poly,
     })
 }

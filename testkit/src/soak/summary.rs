@@ -127,6 +127,11 @@ pub struct SoakSummary {
     pub worker_jobs: u64,
     /// See [`Self::worker_jobs`].
     pub late_jobs: u64,
+    /// Halves of split plate steps run by a worker, and those a worker took but did not
+    /// finish within the owner's bounded wait (the voice computed them itself), at the end.
+    pub shared_step_halves: u64,
+    /// See [`Self::shared_step_halves`].
+    pub late_step_halves: u64,
     busy: f64,
 }
 
@@ -207,6 +212,8 @@ impl SoakSummary {
         self.banks_built = h.banks_built();
         self.worker_jobs = e.worker_jobs();
         self.late_jobs = e.late_jobs();
+        self.shared_step_halves = e.shared_step_halves();
+        self.late_step_halves = e.late_step_halves();
     }
 }
 
@@ -285,8 +292,12 @@ impl fmt::Display for SoakSummary {
         )?;
         writeln!(
             f,
-            "  voice pool: {} threaded blocks, {} jobs on workers, {} late jobs",
-            self.threaded_blocks, self.worker_jobs, self.late_jobs
+            "  voice pool: {} threaded blocks, {} jobs on workers, {} late jobs; split steps: {} halves on workers, {} late",
+            self.threaded_blocks,
+            self.worker_jobs,
+            self.late_jobs,
+            self.shared_step_halves,
+            self.late_step_halves
         )?;
         write!(
             f,
