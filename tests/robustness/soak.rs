@@ -27,7 +27,7 @@ use std::sync::Arc;
 
 /// Blocks of the main sequence. With seed `0x5eed_0007`, 10 000 blocks (plus about 8 200
 /// played while rebuilds were pending) are 57 s of audio and took 14 to 15 s of wall time (test
-/// profile, on the idle two-core development machine, 2026-11-24); they made 65 rebuilds (6
+/// profile, on the idle two-core development machine, 2026-11-24); they made 65 rebuilds (4
 /// of them gongs with split steps, about 6 600 halves run on a worker per run), 24 host rate
 /// changes and about 16 000 note-ons in each of three runs, far above what the test requires
 /// (3, 2, 1000 and one half).
