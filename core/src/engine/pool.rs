@@ -38,9 +38,18 @@
 //! sequentially consistent atomics: a worker either sees the new epoch or is seen parking).
 //! Idle workers therefore sleep in the kernel between host blocks.
 //!
+//! # Split steps
+//!
+//! In a chunk whose sounding voices split their steps (a plate with a large coupling tensor,
+//! `models::plate::half_step`), the invited workers, once out of voice jobs, take the halves
+//! those voices offer on the pool's [`StepBoard`] until the audio thread ends the chunk; with a
+//! single such voice, the audio thread keeps the voice and the worker only helps. A worker
+//! does this while counted in `busy`, so the quiescence rule above also covers the jobs on the
+//! board (they belong to a bank's voices).
+//!
 //! Threads: [`Pool::start`] and [`Pool::stop`] on the main thread (they spawn and join);
 //! [`Pool::run`], [`Pool::quiescent`], [`Lanes`]' queueing and taking on the audio thread;
-//! the workers run [`Lanes::claim`] only.
+//! the workers run [`Lanes::claim`] and [`StepBoard::help`] only.
 
 use super::voice::Voice;
 use crate::models::plate::StepBoard;
