@@ -109,13 +109,12 @@ unsafe impl Sync for HalfJob {}
 // SAFETY: as above; the raw pointer is the model's own coupling, which moves with it.
 unsafe impl Send for HalfJob {}
 
-/// How the second half of one step was computed.
+/// How [`HalfJob::finish`] got the second half of an offered step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum HalfOutcome {
     /// By a helper, in parallel with the owner's half.
     Shared,
-    /// By the owner (no helper took it, the board was closed or taken, or the job was still
-    /// out with a late helper).
+    /// By the owner: no helper took the offer.
     Own,
     /// By the owner after the bounded wait for a helper that took it ran out.
     Late,
