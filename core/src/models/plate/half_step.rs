@@ -109,6 +109,13 @@ unsafe impl Sync for HalfJob {}
 // SAFETY: as above; the raw pointer is the model's own coupling, which moves with it.
 unsafe impl Send for HalfJob {}
 
+#[cfg(test)]
+thread_local! {
+    /// Test hook: a helper holding this job's pointer from an earlier step takes the job right
+    /// after the owner posts it (on the owner's thread; `half_step_tests.rs`).
+    static STALE_TAKE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
 /// How [`HalfJob::finish`] got the second half of an offered step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum HalfOutcome {
@@ -195,7 +202,9 @@ impl HalfJob {
         }
         self.state.store(POSTED, Ordering::Release);
         #[cfg(test)]
-        tests::after_post(self);
+        if STALE_TAKE.with(|s| s.get()) {
+            assert!(self.try_run(), "the stale helper takes the posted job");
+        }
         let me = self as *const HalfJob as *mut HalfJob;
         if board
             .slot

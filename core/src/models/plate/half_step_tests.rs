@@ -8,18 +8,6 @@ use std::sync::atomic::AtomicBool;
 thread_local! {
     static SLOW_HERE: Cell<bool> = const { Cell::new(false) };
 }
-thread_local! {
-    /// A stale helper takes the job right after the owner posts it (this thread).
-    static STALE_TAKE: Cell<bool> = const { Cell::new(false) };
-}
-
-/// The test hook of [`HalfJob::offer`], right after the post.
-pub(super) fn after_post(job: &HalfJob) {
-    if STALE_TAKE.with(|s| s.get()) {
-        assert!(job.try_run());
-    }
-}
-
 /// Lets the kernels held on `SLOW_HERE` threads finish.
 static RELEASE: AtomicBool = AtomicBool::new(false);
 
@@ -195,7 +183,7 @@ fn a_late_helper_is_not_waited_for() {
 /// not the board) may take the job between the owner's post and its finding the board
 /// held by another job. The owner must then wait for that half as for any taken offer,
 /// not reset the job to rest under the helper. The helper's take is placed exactly there
-/// (`after_post`, on the owner's thread).
+/// (`STALE_TAKE`, on the owner's thread).
 #[test]
 fn a_helper_with_a_stale_pointer_is_waited_for() {
     let board = StepBoard::new();
