@@ -18,6 +18,12 @@
 //! otherwise idle machine: state the load from `uptime`); with `NOETHER_BENCH_POOL_CLOCK=thread`
 //! it measures the benchmark (audio) thread's own CPU time, the share that meets the deadline.
 //! After each setting it prints the engine's late jobs (0 expected on an idle machine).
+//!
+//! The group `engine_split_0.1s_48k` does the same for one heavy voice, the moonshot: the
+//! gong-40N preset with a band of 11.7 kHz (1030 strike-mirror modes, 15 in-plane, 26 kHz), whose
+//! coupling tensor is large enough that the voice shares each step with a worker
+//! (`models::plate::half_step`); with `threads` 1 it runs both halves itself. It prints the
+//! halves run on the worker and the late ones.
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
@@ -209,9 +215,56 @@ criterion_group! {
     config = config();
     targets = bench
 }
+/// One moonshot voice, `threads` 1 against 0 (file doc).
+fn bench_split(c: &mut Criterion<Cpu>) {
+    let mut g = c.benchmark_group("engine_split_0.1s_48k");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(6));
+    for threads in [1.0f32, 0.0] {
+        let params = Arc::new(SharedParams::new());
+        Preset::factory_named("gong-40N")
+            .unwrap()
+            .apply(&params)
+            .unwrap();
+        for (id, x) in [
+            (ParamId::Polyphony, 1.0),
+            (ParamId::BandLimit, 11_700.0),
+            (ParamId::Modes, 1030.0),
+            (ParamId::Threads, threads),
+        ] {
+            params.set(id, x).unwrap();
+        }
+        let root = params.get(ParamId::RootKey) as u8;
+        let (mut e, _h) = Engine::new(params.clone());
+        e.activate(48_000.0, 256).unwrap();
+        let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
+        e.note_on(root, 0.8);
+        for _ in 0..20 {
+            e.process(&mut l, &mut r);
+        }
+        assert_eq!(e.active_voices(), 1);
+        g.bench_function(BenchmarkId::new("moonshot-11.7kHz-threads", threads), |b| {
+            b.iter(|| {
+                e.note_on(root, 0.8);
+                for _ in 0..(4800 / 256) {
+                    e.process(&mut l, &mut r);
+                }
+                e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
+            })
+        });
+        println!(
+            "threads {threads}: {} halves on the worker, {} late",
+            e.shared_step_halves(),
+            e.late_step_halves()
+        );
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = pool;
     config = config_process();
-    targets = bench_pool
+    targets = bench_pool, bench_split
 }
 criterion_main!(benches, pool);
