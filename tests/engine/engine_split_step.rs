@@ -12,29 +12,23 @@
 
 use super::engine_threads::has_workers;
 use assert_no_alloc::assert_no_alloc;
-use noether::engine::{Engine, Event, EventKind, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
 use noether::models::plate::SPLIT_MIN_ENTRIES;
 use std::sync::Arc;
 
 /// The gong-40N preset with a 9 kHz band: its root key keeps about 800 strike-mirror modes
 /// (15 in-plane), a tensor of about 2e5 entries, above `SPLIT_MIN_ENTRIES`; one voice.
 fn heavy_gong(threads: f32) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    for (id, x) in [
-        (ParamId::Polyphony, 1.0),
-        (ParamId::BandLimit, 9000.0),
-        (ParamId::Modes, 900.0),
-        (ParamId::Threads, threads),
-    ] {
-        params.set(id, x).unwrap();
-    }
-    let (mut e, _h) = Engine::new(params.clone());
-    e.activate(48_000.0, 256).unwrap();
-    (e, params)
+    super::engine_with("gong-40N", |p| {
+        for (id, x) in [
+            (ParamId::Polyphony, 1.0),
+            (ParamId::BandLimit, 9000.0),
+            (ParamId::Modes, 900.0),
+            (ParamId::Threads, threads),
+        ] {
+            p.set(id, x).unwrap();
+        }
+    })
 }
 
 /// One root-key note (C4) struck at `velocity`, `blocks` blocks of 256 samples.

@@ -9,7 +9,7 @@
 //! tests check that no job was late.
 
 use assert_no_alloc::assert_no_alloc;
-use noether::engine::{Engine, Event, EventKind, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -21,21 +21,16 @@ pub fn has_workers() -> bool {
 /// A gong engine (the gong-40N preset with 4 voices at 60 modes and 10 in-plane modes, so a
 /// test renders quickly) with `threads` participants, activated at 48 kHz, blocks of 256.
 pub fn gong(threads: f32) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    for (id, x) in [
-        (ParamId::Polyphony, 4.0),
-        (ParamId::Modes, 60.0),
-        (ParamId::InPlaneModes, 10.0),
-        (ParamId::Threads, threads),
-    ] {
-        params.set(id, x).unwrap();
-    }
-    let (mut e, _h) = Engine::new(params.clone());
-    e.activate(48_000.0, 256).unwrap();
+    let (mut e, params) = super::engine_with("gong-40N", |p| {
+        for (id, x) in [
+            (ParamId::Polyphony, 4.0),
+            (ParamId::Modes, 60.0),
+            (ParamId::InPlaneModes, 10.0),
+            (ParamId::Threads, threads),
+        ] {
+            p.set(id, x).unwrap();
+        }
+    });
     e.set_job_wait(Some(Duration::from_secs(10)));
     (e, params)
 }

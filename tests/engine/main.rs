@@ -21,3 +21,20 @@ mod pitch_from_sound;
 mod preset_levels;
 mod string_presets;
 mod tiers;
+
+use noether::engine::{Engine, Preset, SharedParams};
+use std::sync::Arc;
+
+/// An engine playing the factory preset `preset` with `edit` applied to its parameters,
+/// activated at 48 kHz with blocks of up to 256 samples.
+pub fn engine_with(preset: &str, edit: impl Fn(&SharedParams)) -> (Engine, Arc<SharedParams>) {
+    let params = Arc::new(SharedParams::new());
+    Preset::factory_named(preset)
+        .unwrap()
+        .apply(&params)
+        .unwrap();
+    edit(&params);
+    let (mut e, _h) = Engine::new(params.clone());
+    e.activate(48_000.0, 256).unwrap();
+    (e, params)
+}

@@ -2,21 +2,9 @@
 //! every mode under the band limit and fewer modes as the note rises; the strike angle rotates
 //! the pickups (no rebuild) and a sounding voice keeps its own strike diameter.
 
-use noether::engine::{Engine, ParamId, Preset, SharedParams, VoiceModelInfo};
+use super::engine_with;
+use noether::engine::{Engine, ParamId, VoiceModelInfo};
 use noether::modal::{CircularEdge, CircularPlateSpec, ModalBasis, PlateModes};
-use std::sync::Arc;
-
-fn engine_with(preset: &str, edit: impl Fn(&SharedParams)) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    edit(&params);
-    let (mut e, _h) = Engine::new(params.clone());
-    e.activate(48_000.0, 256).unwrap();
-    (e, params)
-}
 
 fn render(e: &mut Engine, seconds: f64) -> (Vec<f32>, Vec<f32>) {
     let n = (seconds * e.host_rate()) as usize;
