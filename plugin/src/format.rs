@@ -45,7 +45,7 @@ fn quantity(id: ParamId) -> Quantity {
         YoungsModulus => Quantity::Modulus,
         StrikeAngle | PickupLeftAngle | PickupRightAngle => Quantity::Angle,
         StrikeRadius | PickupLeftPos | PickupRightPos | PluckPosition | ModWheelDepth
-        | BridgePosition | MalletHardness => Quantity::Percent,
+        | BridgePosition | MalletHardness | BossRadius => Quantity::Percent,
         SimRate | BandLimit | TuningA4 | LowCut => Quantity::Frequency,
         StrikeDuration | ReleaseT60 => Quantity::Time,
         LinearDensity => Quantity::LinearDensity,
@@ -63,6 +63,8 @@ fn quantity(id: ParamId) -> Quantity {
         MalletMass => Quantity::Plain("kg"),
         MalletSpeed => Quantity::Plain("m/s"),
         PitchBendRange => Quantity::Plain("st"),
+        DampingA => Quantity::Plain("s^(b−1)"),
+        Dome | Boss => Quantity::Plain("× thickness"),
         _ => Quantity::Plain(""),
     }
 }
@@ -326,6 +328,26 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// Every parameter the engine gives a unit shows one in the editor (a bare number for a
+    /// dome rise in plate thicknesses or a boss radius as a fraction of the plate's reads as
+    /// metres or as anything).
+    #[test]
+    fn every_parameter_with_a_unit_shows_it() {
+        for info in PARAMS {
+            if info.unit.is_empty() || matches!(info.kind, ParamKind::Enum { .. }) {
+                continue;
+            }
+            let s = format_value(info.id, info.max);
+            let unit = s.trim_start_matches(|c: char| c.is_ascii_digit() || "+-.e ".contains(c));
+            assert!(!unit.is_empty(), "{} ({}) shows {s:?}", info.key, info.unit);
+        }
+        assert_eq!(format_value(ParamId::Dome, 12.0), "12.00 × thickness");
+        assert_eq!(parse_value(ParamId::Dome, "12"), Some(12.0));
+        assert_eq!(parse_value(ParamId::Boss, "3 × thickness"), Some(3.0));
+        assert_eq!(format_value(ParamId::BossRadius, 0.2), "20.00%");
+        assert_eq!(parse_value(ParamId::BossRadius, "20%"), Some(0.2));
     }
 
     #[test]

@@ -56,7 +56,7 @@ const SECTIONS: [Section; 7] = {
             strings: None,
         },
         Section {
-            title: "Mallet",
+            title: "Strike",
             params: &[
                 Exciter,
                 StrikeDuration,
