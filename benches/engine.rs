@@ -28,6 +28,7 @@
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use noether::engine::{Engine, ParamId, Preset, SharedParams};
+use noether_testkit::presets::preset_params;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -170,13 +171,10 @@ fn bench_pool(c: &mut Criterion<Cpu>) {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(4));
     for threads in [1.0f32, 0.0] {
-        let params = Arc::new(SharedParams::new());
-        Preset::factory_named("gong-40N")
-            .unwrap()
-            .apply(&params)
-            .unwrap();
-        params.set(ParamId::Polyphony, 4.0).unwrap();
-        params.set(ParamId::Threads, threads).unwrap();
+        let params = preset_params(
+            "gong-40N",
+            &[(ParamId::Polyphony, 4.0), (ParamId::Threads, threads)],
+        );
         let root = params.get(ParamId::RootKey) as u8;
         let (mut e, _h) = Engine::new(params.clone());
         e.activate(48_000.0, 256).unwrap();
@@ -222,19 +220,15 @@ fn bench_split(c: &mut Criterion<Cpu>) {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(6));
     for threads in [1.0f32, 0.0] {
-        let params = Arc::new(SharedParams::new());
-        Preset::factory_named("gong-40N")
-            .unwrap()
-            .apply(&params)
-            .unwrap();
-        for (id, x) in [
-            (ParamId::Polyphony, 1.0),
-            (ParamId::BandLimit, 11_700.0),
-            (ParamId::Modes, 1030.0),
-            (ParamId::Threads, threads),
-        ] {
-            params.set(id, x).unwrap();
-        }
+        let params = preset_params(
+            "gong-40N",
+            &[
+                (ParamId::Polyphony, 1.0),
+                (ParamId::BandLimit, 11_700.0),
+                (ParamId::Modes, 1030.0),
+                (ParamId::Threads, threads),
+            ],
+        );
         let root = params.get(ParamId::RootKey) as u8;
         let (mut e, _h) = Engine::new(params.clone());
         e.activate(48_000.0, 256).unwrap();

@@ -8,10 +8,13 @@
 //! - [`alloc`]: the test binaries' global allocator (`assert_no_alloc`'s, with a per-thread
 //!   allocation counter);
 //! - [`env`]: the process environment the tests share (the modal cache directory, set once);
+//! - [`presets`]: a factory preset's parameters with some changed, the set-up the engine
+//!   tests and benchmarks start from;
 //! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/robustness`,
 //!   `examples/soak.rs`).
 
 pub mod alloc;
 pub mod env;
 pub mod harness;
+pub mod presets;
 pub mod soak;

@@ -4,20 +4,15 @@
 //! energy up its modes within the first second (the lecture's shimmer).
 
 use noether::analysis::spectrogram::spectrogram;
-use noether::engine::{Engine, ParamId, Preset, SharedParams};
-use std::sync::Arc;
+use noether::engine::{Engine, ParamId};
+use noether_testkit::presets::preset_params;
 
 /// Share of the left channel's spectral energy above `f_cut` Hz over the first second of a
 /// full-velocity note at the root key of `preset` (with `in_plane` in-plane modes; 0 is the
 /// linear plate), and the time (s) of the first spectrogram frame whose energy above `f_cut` is
 /// within 60 dB of that frame's total (visible on a spectrogram of 60 dB range).
 fn high_share(preset: &str, in_plane: f32, f_cut: f64) -> (f64, Option<f64>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    params.set(ParamId::InPlaneModes, in_plane).unwrap();
+    let params = preset_params(preset, &[(ParamId::InPlaneModes, in_plane)]);
     let (mut e, _h) = Engine::new(params.clone());
     e.activate(48_000.0, 512).unwrap();
     let root = params.get(ParamId::RootKey) as u8;

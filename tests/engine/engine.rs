@@ -4,15 +4,12 @@
 //! reduced quality.
 
 use noether::engine::{Engine, EngineHandle, ParamId, Preset, SharedParams};
+use noether_testkit::presets::preset_params;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 fn engine_with(preset: &str, host_rate: f64) -> (Engine, EngineHandle, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
+    let params = preset_params(preset, &[]);
     let (mut e, h) = Engine::new(params.clone());
     e.activate(host_rate, 512).unwrap();
     (e, h, params)

@@ -17,10 +17,10 @@
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::voice::modulation::POLY_PARAMS;
 use noether::engine::{
-    Engine, Event, EventKind, KeyTuning, NoteExpression, ParamId, ParamKind, Preset, SharedParams,
-    CEILING, KEY_COUNT, PARAMS,
+    Engine, Event, EventKind, KeyTuning, NoteExpression, ParamId, ParamKind, SharedParams, CEILING,
+    KEY_COUNT, PARAMS,
 };
-use std::sync::Arc;
+use noether_testkit::presets::preset_params;
 use std::time::{Duration, Instant};
 
 /// A deterministic pseudo-random sequence (xorshift64).
@@ -74,11 +74,7 @@ fn per_note(rng: &mut Rng, at: u32, key: u8) -> Event {
 
 #[test]
 fn process_never_allocates() {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
+    let params = preset_params("gong-40N", &[]);
     let (mut e, h) = Engine::new(params.clone());
     let mut rng = Rng(0x9e3779b97f4a7c15);
     let (mut l, mut r) = (vec![0.0f32; 8192], vec![0.0f32; 8192]);
@@ -242,13 +238,10 @@ fn process_never_allocates() {
 /// limiter on).
 #[test]
 fn mallet_blocks_never_allocate() {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    params.set(ParamId::Exciter, 1.0).unwrap();
-    params.set(ParamId::Limiter, 1.0).unwrap();
+    let params = preset_params(
+        "gong-40N",
+        &[(ParamId::Exciter, 1.0), (ParamId::Limiter, 1.0)],
+    );
     let (mut e, _h) = Engine::new(params.clone());
     e.activate(48_000.0, 512).unwrap();
     let mut rng = Rng(0x2545f4914f6cdd1d);

@@ -4,11 +4,9 @@
 //! sooner than without the hand; pressure 0 leaves the note as it was. Figures are printed with
 //! `--nocapture`.
 
-use noether::engine::{
-    Engine, Event, EventKind, NoteExpression, ParamId, Preset, SharedParams, HAND_T60,
-};
+use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId, HAND_T60};
+use noether_testkit::presets::preset_params;
 use std::f64::consts::TAU;
-use std::sync::Arc;
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 256;
@@ -35,13 +33,7 @@ fn render(
     pressure: Option<f32>,
     seconds: f64,
 ) -> Vec<f64> {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    params.set(ParamId::Polyphony, 1.0).unwrap();
-    params.set(ParamId::Gain, -20.0).unwrap();
+    let params = preset_params(preset, &[(ParamId::Polyphony, 1.0), (ParamId::Gain, -20.0)]);
     for &(id, x) in sets {
         params.set(id, x).unwrap();
     }

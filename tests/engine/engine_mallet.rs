@@ -4,8 +4,8 @@
 //! the force pulse (`exciter = pulse`) velocity only scales the force. The mallet at the
 //! table's extremes (mass, hardness, speed) stays finite and within the limiter's ceiling.
 
-use noether::engine::{Engine, ParamId, Preset, SharedParams, CEILING};
-use std::sync::Arc;
+use noether::engine::{Engine, ParamId, SharedParams, CEILING};
+use noether_testkit::presets::preset_params;
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 256;
@@ -14,13 +14,10 @@ const WINDOW: f64 = 0.2;
 
 /// The engine on gong-40N, one voice, output gain -20 dB, with `set` applied, activated.
 fn engine(set: &[(ParamId, f32)]) -> Engine {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    params.set(ParamId::Polyphony, 1.0).unwrap();
-    params.set(ParamId::Gain, -20.0).unwrap();
+    let params = preset_params(
+        "gong-40N",
+        &[(ParamId::Polyphony, 1.0), (ParamId::Gain, -20.0)],
+    );
     for &(id, x) in set {
         params.set(id, x).unwrap();
     }
@@ -142,20 +139,16 @@ fn mallet_velocity_changes_the_timbre() {
 #[test]
 fn mallet_extremes_stay_within_the_ceiling() {
     for hardness in [1.0, 0.0] {
-        let params = Arc::new(SharedParams::new());
-        Preset::factory_named("gong-40N")
-            .unwrap()
-            .apply(&params)
-            .unwrap();
-        for (id, x) in [
-            (ParamId::Exciter, 1.0),
-            (ParamId::MalletMass, 2.0),
-            (ParamId::MalletHardness, hardness),
-            (ParamId::MalletSpeed, 10.0),
-            (ParamId::Limiter, 1.0),
-        ] {
-            params.set(id, x).unwrap();
-        }
+        let params = preset_params(
+            "gong-40N",
+            &[
+                (ParamId::Exciter, 1.0),
+                (ParamId::MalletMass, 2.0),
+                (ParamId::MalletHardness, hardness),
+                (ParamId::MalletSpeed, 10.0),
+                (ParamId::Limiter, 1.0),
+            ],
+        );
         let (mut e, _h) = Engine::new(params);
         assert!(e.activate(RATE, BLOCK).unwrap().is_none());
         let n = (0.5 * RATE) as usize;

@@ -6,10 +6,11 @@
 //! allocate on the audio thread. Figures print with `--nocapture`.
 
 use assert_no_alloc::assert_no_alloc;
-use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId, SharedParams};
 use noether::modal::circular::{CircularEdge, PlateModes};
 use noether::modal::shell::{shell_modes, CapCoupling, Imperfection};
 use noether::modal::CircularPlateSpec;
+use noether_testkit::presets::preset_params;
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
@@ -19,12 +20,7 @@ const BLOCK: usize = 256;
 /// An engine on gong-40N with `sets` applied, one voice, activated at [`RATE`], and its
 /// parameters.
 fn engine(sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    params.set(ParamId::Polyphony, 1.0).unwrap();
+    let params = preset_params("gong-40N", &[(ParamId::Polyphony, 1.0)]);
     for &(id, x) in sets {
         params.set(id, x).unwrap();
     }

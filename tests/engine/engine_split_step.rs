@@ -19,16 +19,15 @@ use std::sync::Arc;
 /// The gong-40N preset with a 9 kHz band: its root key keeps about 800 strike-mirror modes
 /// (15 in-plane), a tensor of about 2e5 entries, above `SPLIT_MIN_ENTRIES`; one voice.
 fn heavy_gong(threads: f32) -> (Engine, Arc<SharedParams>) {
-    super::engine_with("gong-40N", |p| {
-        for (id, x) in [
+    super::engine_with(
+        "gong-40N",
+        &[
             (ParamId::Polyphony, 1.0),
             (ParamId::BandLimit, 9000.0),
             (ParamId::Modes, 900.0),
             (ParamId::Threads, threads),
-        ] {
-            p.set(id, x).unwrap();
-        }
-    })
+        ],
+    )
 }
 
 /// One root-key note (C4) struck at `velocity`, `blocks` blocks of 256 samples.

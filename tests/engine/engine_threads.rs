@@ -21,16 +21,15 @@ pub fn has_workers() -> bool {
 /// A gong engine (the gong-40N preset with 4 voices at 60 modes and 10 in-plane modes, so a
 /// test renders quickly) with `threads` participants, activated at 48 kHz, blocks of 256.
 pub fn gong(threads: f32) -> (Engine, Arc<SharedParams>) {
-    let (mut e, params) = super::engine_with("gong-40N", |p| {
-        for (id, x) in [
+    let (mut e, params) = super::engine_with(
+        "gong-40N",
+        &[
             (ParamId::Polyphony, 4.0),
             (ParamId::Modes, 60.0),
             (ParamId::InPlaneModes, 10.0),
             (ParamId::Threads, threads),
-        ] {
-            p.set(id, x).unwrap();
-        }
-    });
+        ],
+    );
     e.set_job_wait(Some(Duration::from_secs(10)));
     (e, params)
 }

@@ -22,18 +22,14 @@ mod preset_levels;
 mod string_presets;
 mod tiers;
 
-use noether::engine::{Engine, Preset, SharedParams};
+use noether::engine::{Engine, ParamId, SharedParams};
+use noether_testkit::presets::preset_params;
 use std::sync::Arc;
 
-/// An engine playing the factory preset `preset` with `edit` applied to its parameters,
+/// An engine playing the factory preset `preset` with `sets` applied to its parameters,
 /// activated at 48 kHz with blocks of up to 256 samples.
-pub fn engine_with(preset: &str, edit: impl Fn(&SharedParams)) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    edit(&params);
+pub fn engine_with(preset: &str, sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>) {
+    let params = preset_params(preset, sets);
     let (mut e, _h) = Engine::new(params.clone());
     e.activate(48_000.0, 256).unwrap();
     (e, params)

@@ -15,8 +15,8 @@
 //! `noether_core::engine::voice::modulation`).
 
 use noether::engine::voice::modulation::bright_pluck;
-use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId, Preset, SharedParams};
-use std::sync::Arc;
+use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId};
+use noether_testkit::presets::preset_params;
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 256;
@@ -24,11 +24,7 @@ const BLOCK: usize = 256;
 /// An engine on factory preset `preset` with a light plate (100 modes, 8 in-plane) where it is
 /// one, polyphony 2, limiter off, gain -20 dB, the audio thread alone, and `sets`.
 fn engine(preset: &str, sets: &[(ParamId, f32)]) -> Engine {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named(preset)
-        .unwrap()
-        .apply(&params)
-        .unwrap();
+    let params = preset_params(preset, &[]);
     if preset.starts_with("gong") {
         params.set(ParamId::Modes, 100.0).unwrap();
         params.set(ParamId::InPlaneModes, 8.0).unwrap();

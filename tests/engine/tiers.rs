@@ -48,7 +48,7 @@ fn gong_notes_keep_their_band() {
     };
     let mut last_n = usize::MAX;
     for key in [36, 48, 60, 72, 84, 96] {
-        let (mut e, p) = engine_with("gong-40N", |_| {});
+        let (mut e, p) = engine_with("gong-40N", &[]);
         assert_eq!(p.get(ParamId::BandLimit), 6000.0);
         e.note_on(key as u8, 1.0);
         render(&mut e, 0.02);
@@ -104,11 +104,14 @@ fn gong_notes_keep_their_band() {
 #[test]
 fn strike_angle_rotates_the_pickups() {
     let play = |strike: f32, left: f32, right: f32| {
-        let (mut e, p) = engine_with("gong-40N", |p| {
-            p.set(ParamId::Modes, 120.0).unwrap();
-            p.set(ParamId::PickupLeftAngle, left).unwrap();
-            p.set(ParamId::PickupRightAngle, right).unwrap();
-        });
+        let (mut e, p) = engine_with(
+            "gong-40N",
+            &[
+                (ParamId::Modes, 120.0),
+                (ParamId::PickupLeftAngle, left),
+                (ParamId::PickupRightAngle, right),
+            ],
+        );
         let bank = e.bank_id();
         p.set(ParamId::StrikeAngle, strike).unwrap();
         render(&mut e, 0.01); // the engine reads the parameters at its next block
@@ -143,9 +146,7 @@ fn strike_angle_rotates_the_pickups() {
 #[test]
 fn a_sounding_voice_keeps_its_strike_diameter() {
     let play = |second_angle: f32| {
-        let (mut e, p) = engine_with("gong-40N", |p| {
-            p.set(ParamId::Modes, 120.0).unwrap();
-        });
+        let (mut e, p) = engine_with("gong-40N", &[(ParamId::Modes, 120.0)]);
         e.note_on(60, 1.0);
         render(&mut e, 0.05);
         p.set(ParamId::StrikeAngle, second_angle).unwrap();

@@ -2,25 +2,22 @@
 //! lifecycle (deactivate, re-activate, drop) joining the workers without hanging.
 
 use assert_no_alloc::assert_no_alloc;
-use noether::engine::{Engine, Event, EventKind, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
+use noether_testkit::presets::preset_params;
 use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::Duration;
 
 fn gong(voices: f32) -> (Engine, Arc<SharedParams>) {
-    let params = Arc::new(SharedParams::new());
-    Preset::factory_named("gong-40N")
-        .unwrap()
-        .apply(&params)
-        .unwrap();
-    for (id, x) in [
-        (ParamId::Polyphony, voices),
-        (ParamId::Modes, 80.0),
-        (ParamId::InPlaneModes, 15.0),
-        (ParamId::Threads, 0.0),
-    ] {
-        params.set(id, x).unwrap();
-    }
+    let params = preset_params(
+        "gong-40N",
+        &[
+            (ParamId::Polyphony, voices),
+            (ParamId::Modes, 80.0),
+            (ParamId::InPlaneModes, 15.0),
+            (ParamId::Threads, 0.0),
+        ],
+    );
     let (mut e, _h) = Engine::new(params.clone());
     e.activate(48_000.0, 512).unwrap();
     (e, params)
