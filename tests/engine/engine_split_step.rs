@@ -10,7 +10,7 @@
 //! - Nothing allocates, on the audio thread (`assert_no_alloc`) or in a worker's job loop,
 //!   which includes its help on the board (the test allocator; tolerance 0).
 
-use super::engine_threads::has_workers;
+use super::engine_threads::{has_workers, job_allocations};
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
 use noether::models::plate::SPLIT_MIN_ENTRIES;
@@ -89,19 +89,10 @@ fn a_split_voice_sounds_the_same_on_one_or_two_threads() {
 
 #[test]
 fn split_steps_never_allocate_in_any_thread() {
-    assert!(noether_testkit::alloc::installed());
-    let before = noether_testkit::alloc::voice_job_allocations();
     let (mut e, params) = heavy_gong(0.0);
-    let (mut l, mut r) = (vec![0.0f32; 4096], vec![0.0f32; 4096]);
-    for (b, ev) in note(30, 1.0).iter().enumerate() {
-        // Block lengths 1 to 4096; `threads` changes block to block (no rebuild).
-        let n = [256usize, 1, 64, 4096, 333][b % 5];
-        params.set(ParamId::Threads, (b % 3) as f32).unwrap();
-        assert_no_alloc(|| e.process_events(ev, &mut l[..n], &mut r[..n]));
-        assert!(l[..n].iter().chain(&r[..n]).all(|x| x.is_finite()));
-    }
-    e.deactivate();
-    let during = noether_testkit::alloc::voice_job_allocations() - before;
+    // Block lengths 1 to 4096; `threads` 0 to 2 changes block to block (no rebuild).
+    let block = |b: usize| [256usize, 1, 64, 4096, 333][b % 5];
+    let during = job_allocations(&mut e, &params, &note(30, 1.0), block, 3);
     println!(
         "{} halves on a worker, {} allocations in job loops",
         e.shared_step_halves(),

@@ -13,6 +13,33 @@ use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
 use std::sync::Arc;
 use std::time::Duration;
 
+/// Plays `events` (one list per block) in blocks of `block(b)` samples with `threads` cycling
+/// through `0..thread_counts`, each block under `assert_no_alloc` (which aborts the binary on
+/// an allocation on the audio thread) with finite output, then deactivates the engine; returns
+/// the allocations the test allocator counted inside the voice pool's job loops meanwhile.
+pub fn job_allocations(
+    e: &mut Engine,
+    params: &SharedParams,
+    events: &[Vec<Event>],
+    block: impl Fn(usize) -> usize,
+    thread_counts: usize,
+) -> u64 {
+    assert!(noether_testkit::alloc::installed());
+    let before = noether_testkit::alloc::voice_job_allocations();
+    let longest = (0..events.len()).map(&block).max().unwrap_or(0);
+    let (mut l, mut r) = (vec![0.0f32; longest], vec![0.0f32; longest]);
+    for (b, ev) in events.iter().enumerate() {
+        let n = block(b);
+        params
+            .set(ParamId::Threads, (b % thread_counts) as f32)
+            .unwrap();
+        assert_no_alloc(|| e.process_events(ev, &mut l[..n], &mut r[..n]));
+        assert!(l[..n].iter().chain(&r[..n]).all(|x| x.is_finite()));
+    }
+    e.deactivate();
+    noether_testkit::alloc::voice_job_allocations() - before
+}
+
 /// Whether this machine gives the engine at least one worker (two cores or more).
 pub fn has_workers() -> bool {
     std::thread::available_parallelism().is_ok_and(|n| n.get() >= 2)
@@ -134,19 +161,10 @@ fn threaded_output_is_bit_identical_to_the_audio_thread_alone() {
 /// wake of a worker: this test then failed with 630 allocations counted).
 #[test]
 fn threaded_process_never_allocates_in_any_thread() {
-    assert!(noether_testkit::alloc::installed());
-    let before = noether_testkit::alloc::voice_job_allocations();
     let (mut e, params) = gong(0.0);
-    let (mut l, mut r) = (vec![0.0f32; 8192], vec![0.0f32; 8192]);
-    for (b, ev) in sequence(90, 1.0).iter().enumerate() {
-        // Block lengths 1 to 8192 samples; `threads` changes block to block (no rebuild).
-        let n = [256usize, 1, 64, 4000, 8192, 333][b % 6].min(256 + 31 * b);
-        params.set(ParamId::Threads, (b % 4) as f32).unwrap();
-        assert_no_alloc(|| e.process_events(ev, &mut l[..n], &mut r[..n]));
-        assert!(l[..n].iter().chain(&r[..n]).all(|x| x.is_finite()));
-    }
-    e.deactivate();
-    let during = noether_testkit::alloc::voice_job_allocations() - before;
+    // Block lengths 1 to 8192 samples; `threads` 0 to 3 changes block to block (no rebuild).
+    let block = |b: usize| [256usize, 1, 64, 4000, 8192, 333][b % 6].min(256 + 31 * b);
+    let during = job_allocations(&mut e, &params, &sequence(90, 1.0), block, 4);
     println!(
         "{} jobs on workers, {} allocations in job loops",
         e.worker_jobs(),
