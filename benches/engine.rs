@@ -32,29 +32,14 @@ use noether_testkit::presets::preset_params;
 use std::sync::Arc;
 use std::time::Duration;
 
-/// CPU time consumed by the calling thread so far.
+/// CPU time consumed by the calling thread so far (`noether::clock`).
 fn thread_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; CLOCK_THREAD_CPUTIME_ID is supported by
-    // Linux since 2.6.12 (the call fails only for an invalid clock or pointer).
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+    noether::clock::thread_cpu_time().expect("the thread CPU clock (Unix)")
 }
 
-/// CPU time consumed by every thread of the process so far.
+/// CPU time consumed by every thread of the process so far (`noether::clock`).
 fn process_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: as in `thread_cpu_time`, with CLOCK_PROCESS_CPUTIME_ID (Linux since 2.6.12).
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_PROCESS_CPUTIME_ID) failed");
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+    noether::clock::process_cpu_time().expect("the process CPU clock (Unix)")
 }
 
 /// Criterion measurement: CPU time of the benchmark thread or of the whole process, or wall

@@ -23,16 +23,9 @@ use std::time::Duration;
 /// Steps per iteration of the whole-step bench.
 const STEPS: usize = 32;
 
-/// CPU time of the calling thread.
+/// CPU time consumed by the calling thread so far (`noether::clock`).
 fn thread_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is supported by Linux.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+    noether::clock::thread_cpu_time().expect("the thread CPU clock (Unix)")
 }
 
 /// Thread-CPU time of `iters` calls of `f`.

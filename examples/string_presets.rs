@@ -34,17 +34,9 @@ use std::time::Duration;
 /// Host rate (Hz).
 const RATE: f64 = 48_000.0;
 
-/// CPU time consumed by the calling thread so far.
+/// CPU time consumed by the calling thread so far (`noether::clock`).
 fn thread_cpu_time() -> Duration {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; CLOCK_THREAD_CPUTIME_ID is supported by
-    // Linux since 2.6.12 (the call fails only for an invalid clock or pointer).
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    Duration::new(ts.tv_sec as u64, ts.tv_nsec as u32)
+    noether::clock::thread_cpu_time().expect("the thread CPU clock (Unix)")
 }
 
 /// A fresh one-voice engine playing `preset` at [`RATE`] with blocks up to `block`.

@@ -86,7 +86,7 @@ CRATES = [
         "noether-core",
         "core/src/lib.rs",
         [
-            ["error"],
+            ["error", "clock"],
             ["schemes"],
             ["analysis"],
             # modal: `basis` (the ModalBasis trait), `error`, `quadrature`, `tensor` below

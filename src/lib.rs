@@ -18,7 +18,7 @@
 //! [`Error`], the one error type of the offline crate.
 
 pub use error::{Error, ParamError};
-pub use noether_core::{engine, modal, models, schemes};
+pub use noether_core::{clock, engine, modal, models, schemes};
 
 pub mod analysis;
 pub mod error;

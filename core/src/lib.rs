@@ -28,6 +28,7 @@
 //! `step`, so they can run on an audio thread once built.
 
 pub mod analysis;
+pub mod clock;
 pub mod engine;
 pub mod error;
 pub mod modal;

@@ -330,30 +330,18 @@ pub struct Played {
     pub report: PlayReport,
 }
 
-/// CPU seconds of the whole process (every thread) since it started.
-#[cfg(unix)]
-pub fn process_cpu_seconds() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; CLOCK_PROCESS_CPUTIME_ID exists on every
-    // Unix this crate builds for (Linux, macOS).
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-    if rc != 0 {
-        return f64::NAN;
-    }
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
-
-/// Wall seconds since the first call (no process CPU clock off Unix).
-#[cfg(not(unix))]
+/// CPU seconds of the whole process (every thread) since it started; where the platform has
+/// no process clock (not Unix), wall seconds since the first call.
 pub fn process_cpu_seconds() -> f64 {
     use std::sync::OnceLock;
     static T0: OnceLock<std::time::Instant> = OnceLock::new();
-    T0.get_or_init(std::time::Instant::now)
-        .elapsed()
-        .as_secs_f64()
+    match noether_core::clock::process_cpu_time() {
+        Some(t) => t.as_secs_f64(),
+        None => T0
+            .get_or_init(std::time::Instant::now)
+            .elapsed()
+            .as_secs_f64(),
+    }
 }
 
 /// The preset's root key (the default note of `noether play`).

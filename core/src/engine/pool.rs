@@ -407,21 +407,7 @@ impl Drop for Pool {
 /// CPU time of the calling thread (ns), `None` where the platform has no thread clock. Not
 /// I/O: a clock read (one syscall at most).
 fn thread_cpu_ns() -> Option<u64> {
-    #[cfg(unix)]
-    {
-        let mut ts = libc::timespec {
-            tv_sec: 0,
-            tv_nsec: 0,
-        };
-        // SAFETY: `ts` is a valid, writable timespec; CLOCK_THREAD_CPUTIME_ID exists on every
-        // supported Unix (the call fails only for an invalid clock or pointer).
-        let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-        (rc == 0).then(|| ts.tv_sec as u64 * 1_000_000_000 + ts.tv_nsec as u64)
-    }
-    #[cfg(not(unix))]
-    {
-        None
-    }
+    crate::clock::thread_cpu_time().map(|d| d.as_nanos() as u64)
 }
 
 /// A worker's loop: wait for a new epoch (spin, then park), run the jobs it can claim,

@@ -479,18 +479,9 @@ impl Rng {
 }
 
 /// CPU time of the whole process (every thread: the plugin's workers and voice pool count),
-/// seconds, from `CLOCK_PROCESS_CPUTIME_ID`.
+/// seconds, from `CLOCK_PROCESS_CPUTIME_ID`; NaN where it cannot be read.
 pub(crate) fn process_cpu_seconds() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid timespec to write; the clock id is a constant Linux knows.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_PROCESS_CPUTIME_ID, &mut ts) };
-    if rc != 0 {
-        return f64::NAN;
-    }
-    ts.tv_sec as f64 + 1e-9 * ts.tv_nsec as f64
+    noether_core::clock::process_cpu_time().map_or(f64::NAN, |t| t.as_secs_f64())
 }
 
 #[cfg(test)]
