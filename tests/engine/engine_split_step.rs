@@ -10,7 +10,7 @@
 //! - Nothing allocates, on the audio thread (`assert_no_alloc`) or in a worker's job loop,
 //!   which includes its help on the board (the test allocator; tolerance 0).
 
-use super::engine_threads::{has_workers, job_allocations};
+use super::engine_threads::{first_difference, has_workers, interleaved, job_allocations};
 use assert_no_alloc::assert_no_alloc;
 use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
 use noether::models::plate::SPLIT_MIN_ENTRIES;
@@ -43,15 +43,10 @@ fn note(blocks: usize, velocity: f32) -> Vec<Vec<Event>> {
         .collect()
 }
 
+/// Renders `seq` with `threads`; returns the interleaved output and the engine.
 fn render(threads: f32, seq: &[Vec<Event>]) -> (Vec<f32>, Engine) {
     let (mut e, _p) = heavy_gong(threads);
-    let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
-    let mut out = Vec::with_capacity(seq.len() * 512);
-    for ev in seq {
-        assert_no_alloc(|| e.process_events(ev, &mut l, &mut r));
-        out.extend(l.iter().zip(&r).flat_map(|(a, b)| [*a, *b]));
-    }
-    (out, e)
+    (interleaved(&mut e, seq), e)
 }
 
 #[test]
@@ -75,16 +70,13 @@ fn a_split_voice_sounds_the_same_on_one_or_two_threads() {
     if has_workers() {
         assert!(e2.shared_step_halves() > 0, "no half ran on a worker");
     }
-    let diff = one
-        .iter()
-        .zip(&two)
-        .position(|(a, b)| a.to_bits() != b.to_bits());
-    assert_eq!(diff, None, "threads 0 differs from threads 1");
+    assert_eq!(
+        first_difference(&one, &two),
+        None,
+        "threads 0 differs from threads 1"
+    );
     let (other, _) = render(1.0, &note(40, 0.9999));
-    assert!(one
-        .iter()
-        .zip(&other)
-        .any(|(a, b)| a.to_bits() != b.to_bits()));
+    assert!(first_difference(&one, &other).is_some());
 }
 
 #[test]

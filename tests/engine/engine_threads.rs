@@ -91,20 +91,26 @@ pub fn sequence(blocks: usize, velocity: f32) -> Vec<Vec<Event>> {
         .collect()
 }
 
-/// Renders `seq` with `threads`; returns the interleaved output and the engine.
-fn render(threads: f32, seq: &[Vec<Event>]) -> (Vec<f32>, Engine) {
-    let (mut e, _p) = gong(threads);
+/// Plays `seq` (one event list per 256-sample block) on `e`, each block under
+/// `assert_no_alloc`; returns the interleaved stereo output.
+pub fn interleaved(e: &mut Engine, seq: &[Vec<Event>]) -> Vec<f32> {
     let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
     let mut out = Vec::with_capacity(seq.len() * 512);
     for ev in seq {
         assert_no_alloc(|| e.process_events(ev, &mut l, &mut r));
         out.extend(l.iter().zip(&r).flat_map(|(a, b)| [*a, *b]));
     }
-    (out, e)
+    out
+}
+
+/// Renders `seq` with `threads`; returns the interleaved output and the engine.
+fn render(threads: f32, seq: &[Vec<Event>]) -> (Vec<f32>, Engine) {
+    let (mut e, _p) = gong(threads);
+    (interleaved(&mut e, seq), e)
 }
 
 /// Index and values of the first sample where `a` and `b` differ in bits.
-fn first_difference(a: &[f32], b: &[f32]) -> Option<(usize, f32, f32)> {
+pub fn first_difference(a: &[f32], b: &[f32]) -> Option<(usize, f32, f32)> {
     a.iter()
         .zip(b)
         .enumerate()
