@@ -295,6 +295,14 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), Error> {
         "reference: {} ({:.2} s wall, balance error {:.2e})",
         study.reference, study.reference_wall_seconds, study.reference_energy_balance_error
     );
+    if let Some(f) = &study.sensitivity {
+        eprintln!(
+            "floor: the reference against itself with {} {:+e} relative (inaudible): \
+             L2 (50 ms) {:.3e}, LSD {:.3} dB; distances near or below it are the note's own \
+             sensitivity, not a difference between the models",
+            f.parameter, f.relative_change, f.l2_50ms, f.lsd_db
+        );
+    }
     eprintln!(
         "{:>20} {:>10} {:>12} {:>10} {:>12} {:>12}",
         study.vary, "wall (s)", "L2 (50 ms)", "LSD (dB)", "partials (¢)", "balance err"
@@ -332,40 +340,55 @@ fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
 }
 
 fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
+    use noether::render::accuracy::{AccuracyRow, SensitivityFloor};
+    // The note's floor (preset studies) as a level line across the cost panels' wall range.
+    let walls = study.rows.iter().map(|r| r.wall_seconds);
+    let (w0, w1) = walls.fold((f64::INFINITY, 0.0f64), |(a, b), w| (a.min(w), b.max(w)));
     // Each setting is its own labelled point on the cost panels (a scheme study has no order).
-    let cost_panel =
-        |title: &str, ylabel: &str, pick: fn(&noether::render::accuracy::AccuracyRow) -> f64| {
-            let mut p =
-                Panel::new(title, "wall time (s)", ylabel).scales(Scale::Log10, Scale::Log10);
-            if study.rows.iter().all(|r| r.value.is_some()) {
+    let cost_panel = |title: &str,
+                      ylabel: &str,
+                      pick: fn(&AccuracyRow) -> f64,
+                      floor: fn(&SensitivityFloor) -> f64| {
+        let mut p = Panel::new(title, "wall time (s)", ylabel).scales(Scale::Log10, Scale::Log10);
+        if let Some(f) = study.sensitivity.as_ref().filter(|_| w1 > 0.0) {
+            let label = format!("floor: {} {:+e}", f.parameter, f.relative_change);
+            p = p.push(Series::line(
+                label,
+                vec![0.8 * w0, 1.25 * w1],
+                vec![floor(f); 2],
+            ));
+        }
+        if study.rows.iter().all(|r| r.value.is_some()) {
+            p = p.push(
+                Series::line(
+                    ylabel,
+                    study.rows.iter().map(|r| r.wall_seconds).collect(),
+                    study.rows.iter().map(pick).collect(),
+                )
+                .with_mark(Mark::LinePoints),
+            );
+        } else {
+            for r in &study.rows {
                 p = p.push(
-                    Series::line(
-                        ylabel,
-                        study.rows.iter().map(|r| r.wall_seconds).collect(),
-                        study.rows.iter().map(pick).collect(),
-                    )
-                    .with_mark(Mark::LinePoints),
+                    Series::line(r.setting.clone(), vec![r.wall_seconds], vec![pick(r)])
+                        .with_mark(Mark::Points),
                 );
-            } else {
-                for r in &study.rows {
-                    p = p.push(
-                        Series::line(r.setting.clone(), vec![r.wall_seconds], vec![pick(r)])
-                            .with_mark(Mark::Points),
-                    );
-                }
             }
-            p
-        };
+        }
+        p
+    };
     let mut panels = vec![
         cost_panel(
             "waveform error against cost",
             "relative L2, first 50 ms",
             |r| r.l2_50ms,
+            |f| f.l2_50ms,
         ),
         cost_panel(
             "spectral error against cost",
             "log-spectral distance (dB)",
             |r| r.lsd_db,
+            |f| f.lsd_db,
         ),
     ];
     if study.rows.iter().all(|r| r.value.is_some()) {

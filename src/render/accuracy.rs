@@ -150,8 +150,27 @@ pub struct AccuracyStudy {
     pub reference_energy_balance_error: f64,
     /// Linear-partial error of the reference (cents).
     pub reference_partial_cents: Option<f64>,
+    /// The metrics' floor for this note (preset studies; `None` for scenes).
+    pub sensitivity: Option<SensitivityFloor>,
     /// One row per value.
     pub rows: Vec<AccuracyRow>,
+}
+
+/// How far the metrics move for an inaudible change of the note itself: the reference against
+/// the same reference with its excitation level (strike force, mallet speed or pluck amplitude)
+/// changed by a relative `relative_change`. A variant whose distance from the reference is
+/// near or below this floor differs from it by no more than the note's own sensitivity (a
+/// hard-struck gong in its cascade regime is chaotic: docs/ACCURACY.md).
+#[derive(Debug, Clone, Serialize)]
+pub struct SensitivityFloor {
+    /// The engine parameter changed (its key).
+    pub parameter: String,
+    /// The relative change of its value (negative: quieter).
+    pub relative_change: f64,
+    /// Relative L2 over the first 50 ms, as [`AccuracyRow::l2_50ms`].
+    pub l2_50ms: f64,
+    /// Log-spectral distance (dB), as [`AccuracyRow::lsd_db`].
+    pub lsd_db: f64,
 }
 
 /// One setting of a study: its label, its numeric value when it has one, and the scene under it.
@@ -255,6 +274,7 @@ pub fn study(
         reference_wall_seconds: ref_report.wall_seconds,
         reference_energy_balance_error: ref_report.energy.max_balance_error,
         reference_partial_cents: ref_report.linear_partials_max_cents,
+        sensitivity: None,
         rows,
     })
 }

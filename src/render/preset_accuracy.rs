@@ -13,7 +13,9 @@
 //! one-voice render gives it nothing to share). [`preset_study`] runs its renders on rayon's
 //! threads.
 
-use super::accuracy::{log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy};
+use super::accuracy::{
+    log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy, SensitivityFloor,
+};
 use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
@@ -25,6 +27,9 @@ pub const PRESET_HOST_RATE: f64 = 48_000.0;
 pub const PRESET_BLOCK: usize = 256;
 /// Note-on velocity of preset renders (0 to 1).
 pub const PRESET_VELOCITY: f32 = 0.8;
+/// Relative change of the excitation level behind a study's sensitivity floor: 1e-4 quieter,
+/// 0.0009 dB, far below what anyone hears.
+pub const SENSITIVITY_CHANGE: f64 = -1e-4;
 
 /// One preset render: the left output and what it cost.
 #[derive(Debug, Clone)]
@@ -138,6 +143,29 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
     })
 }
 
+/// The parameter that sets how hard a preset's note is excited: the pluck amplitude of a
+/// string, the mallet's speed with the mallet exciter, else the strike force.
+pub fn excitation_level(preset: &Preset) -> Result<ParamId, ParamError> {
+    let v = preset.values()?;
+    Ok(if !crate::engine::ModelKind::from_params(&v).is_plate() {
+        ParamId::PluckAmplitude
+    } else if v.index_of(ParamId::Exciter) == 1 {
+        ParamId::MalletSpeed
+    } else {
+        ParamId::StrikeForce
+    })
+}
+
+/// `preset` with parameter `id` multiplied by `factor` (checked against its range).
+pub fn scaled(preset: &Preset, id: ParamId, factor: f64) -> Result<Preset, ParamError> {
+    let x = f64::from(preset.values()?.get(id)) * factor;
+    let mut p = preset.clone();
+    p.params
+        .insert(id.info().key.to_string(), PresetValue::Number(x));
+    p.values()?;
+    Ok(p)
+}
+
 /// One setting of a preset study: its label, numeric value, and the preset under it.
 #[derive(Debug, Clone)]
 pub struct PresetVariant {
@@ -150,8 +178,10 @@ pub struct PresetVariant {
 }
 
 /// Renders the reference and every variant for `seconds` and compares each with the reference
-/// (see the module docs). The renders run in parallel on the cores; the rows keep the
-/// variants' order, and `log` receives one line per render, in that order, once all are done.
+/// (see the module docs), and measures the metrics' floor for the note: the reference against
+/// itself with its [`excitation_level`] changed by [`SENSITIVITY_CHANGE`] ([`SensitivityFloor`]).
+/// The renders run in parallel on the cores; the rows keep the variants' order, and `log`
+/// receives one line per render, in that order, once all are done.
 pub fn preset_study(
     name: &str,
     vary: &str,
@@ -161,9 +191,16 @@ pub fn preset_study(
     seconds: f64,
     mut log: impl FnMut(&str),
 ) -> Result<AccuracyStudy, ParamError> {
+    let level = excitation_level(reference)?;
+    let nudged = scaled(reference, level, 1.0 + SENSITIVITY_CHANGE)?;
     // Independent renders: all at once on the cores, results kept in the variants' order.
-    let (reference_render, renders) = rayon::join(
-        || render_preset(reference, seconds),
+    let ((reference_render, nudged_render), renders) = rayon::join(
+        || {
+            rayon::join(
+                || render_preset(reference, seconds),
+                || render_preset(&nudged, seconds),
+            )
+        },
         || {
             variants
                 .par_iter()
@@ -177,6 +214,17 @@ pub fn preset_study(
         r.wall_seconds
     ));
     let n = (super::accuracy::L2_SECONDS * PRESET_HOST_RATE).round() as usize;
+    let nudged = nudged_render?;
+    let sensitivity = SensitivityFloor {
+        parameter: level.info().key.to_string(),
+        relative_change: SENSITIVITY_CHANGE,
+        l2_50ms: relative_l2(&nudged.left, &r.left, n),
+        lsd_db: log_spectral_distance(&nudged.left, &r.left),
+    };
+    log(&format!(
+        "floor: the reference with {} {:+e} relative: L2(50 ms) {:.3e}, LSD {:.3} dB",
+        sensitivity.parameter, SENSITIVITY_CHANGE, sensitivity.l2_50ms, sensitivity.lsd_db
+    ));
     let mut rows = Vec::new();
     for (v, render) in variants.iter().zip(renders) {
         let x = render?;
@@ -211,6 +259,7 @@ pub fn preset_study(
         reference_wall_seconds: r.wall_seconds,
         reference_energy_balance_error: r.energy_balance_error,
         reference_partial_cents: None,
+        sensitivity: Some(sensitivity),
         rows,
     })
 }

@@ -1,9 +1,10 @@
 //! `noether accuracy --preset`: factory presets played through the engine and compared with a
 //! richer reference (src/render/preset_accuracy.rs).
 
-use noether::engine::Preset;
+use noether::engine::{ParamId, Preset};
 use noether::render::preset_accuracy::{
-    preset_study, render_preset, with_overrides, PresetVariant,
+    excitation_level, preset_study, render_preset, scaled, with_overrides, PresetVariant,
+    SENSITIVITY_CHANGE,
 };
 
 /// The engine is deterministic: a variant equal to the reference has L2 and LSD exactly 0; a
@@ -57,6 +58,44 @@ fn preset_study_measures_differences_and_nothing_else() {
         assert!(r.energy_balance_error < 1e-9, "{r:?}");
         assert_eq!((r.n_phi, r.n_psi), (r.value.unwrap() as usize, 6));
     }
+    // The floor: the reference struck 1e-4 softer. Its linear response scales by exactly 1e-4;
+    // the nonlinear coupling adds a small phase drift over the first 50 ms (measured 1.9e-4),
+    // and a 0.1 s note of 20 modes is far from the cascade's sensitivity (L2 below 1e-3, LSD
+    // below 0.05 dB). A floor of 0 would mean the change never reached the note.
+    let floor = study
+        .sensitivity
+        .expect("a preset study measures its floor");
+    println!("{floor:?}");
+    assert_eq!(floor.parameter, "strike_force");
+    assert!((0.9e-4..1e-3).contains(&floor.l2_50ms), "{floor:?}");
+    assert!(floor.lsd_db > 0.0 && floor.lsd_db < 0.05, "{floor:?}");
+}
+
+/// The floor changes the parameter that sets how hard the note is excited: the pluck of a
+/// string, the mallet's speed with the mallet exciter, the strike force with the pulse; the
+/// change stays inside the parameter's range (a quieter value).
+#[test]
+fn the_floor_changes_the_excitation_level() {
+    let level = |stem: &str, sets: &[String]| {
+        let p = with_overrides(&Preset::factory_named(stem).unwrap(), sets).unwrap();
+        excitation_level(&p).unwrap()
+    };
+    assert_eq!(level("sitar", &[]), ParamId::PluckAmplitude);
+    assert_eq!(level("gong-80N", &[]), ParamId::StrikeForce);
+    assert_eq!(
+        level("gong-40N", &["exciter=1".into()]),
+        ParamId::MalletSpeed
+    );
+    let gong = Preset::factory_named("gong-80N").unwrap();
+    let softer = scaled(&gong, ParamId::StrikeForce, 1.0 + SENSITIVITY_CHANGE).unwrap();
+    let (a, b) = (
+        gong.values().unwrap().get(ParamId::StrikeForce),
+        softer.values().unwrap().get(ParamId::StrikeForce),
+    );
+    assert!(
+        b < a && (f64::from(a - b) / f64::from(a) - 1e-4).abs() < 1e-6,
+        "{a} {b}"
+    );
 }
 
 /// Bad overrides and durations are errors naming the key or field and the allowed range.
