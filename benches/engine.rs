@@ -26,8 +26,8 @@
 //! halves run on the worker and the late ones.
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use noether::engine::{Engine, ParamId, Preset, SharedParams};
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion};
+use noether::engine::{Engine, EngineHandle, ParamId, Preset, SharedParams};
 use noether_testkit::presets::preset_params;
 use std::sync::Arc;
 use std::time::Duration;
@@ -111,6 +111,48 @@ fn config_process() -> Criterion<Cpu> {
 
 const KEYS: [u8; 8] = [0, 4, 7, 12, 16, 19, 24, 28];
 
+/// The first `voices` keys of [`KEYS`] from an octave below the root key of `params`.
+fn chord(params: &SharedParams, voices: usize) -> Vec<u8> {
+    let root = params.get(ParamId::RootKey) as u8;
+    KEYS.iter().take(voices).map(|k| root - 12 + k).collect()
+}
+
+/// Benchmarks `name`/`parameter` in `g`: an engine on `params`, activated at 48 kHz with blocks
+/// of 256 samples, whose every iteration strikes `keys` at velocity 0.8 and renders 0.1 s
+/// (4800 samples). Before it, one strike and 20 blocks, after which every key must sound.
+/// Returns the engine (and its handle) for the caller's counters.
+fn bench_strikes(
+    g: &mut BenchmarkGroup<'_, Cpu>,
+    name: &str,
+    parameter: impl std::fmt::Display,
+    params: Arc<SharedParams>,
+    keys: &[u8],
+) -> (Engine, EngineHandle) {
+    let (mut e, h) = Engine::new(params);
+    e.activate(48_000.0, 256).unwrap();
+    let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
+    let strike = |e: &mut Engine| {
+        for &k in keys {
+            e.note_on(k, 0.8);
+        }
+    };
+    strike(&mut e);
+    for _ in 0..20 {
+        e.process(&mut l, &mut r);
+    }
+    assert_eq!(e.active_voices(), keys.len(), "{name} {parameter}");
+    g.bench_function(BenchmarkId::new(name, parameter), |b| {
+        b.iter(|| {
+            strike(&mut e);
+            for _ in 0..(4800 / 256) {
+                e.process(&mut l, &mut r);
+            }
+            e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
+        })
+    });
+    (e, h)
+}
+
 fn bench(c: &mut Criterion<Cpu>) {
     let mut g = c.benchmark_group("engine_0.1s_48k");
     g.sample_size(10)
@@ -121,29 +163,8 @@ fn bench(c: &mut Criterion<Cpu>) {
             let params = Arc::new(SharedParams::new());
             preset.apply(&params).unwrap();
             params.set(ParamId::Polyphony, voices as f32).unwrap();
-            let root = params.get(ParamId::RootKey) as u8;
-            let (mut e, _h) = Engine::new(params.clone());
-            e.activate(48_000.0, 256).unwrap();
-            let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
-            let strike = |e: &mut Engine| {
-                for k in KEYS.iter().take(voices) {
-                    e.note_on(root - 12 + k, 0.8);
-                }
-            };
-            strike(&mut e);
-            for _ in 0..20 {
-                e.process(&mut l, &mut r);
-            }
-            assert_eq!(e.active_voices(), voices, "{stem}");
-            g.bench_function(BenchmarkId::new(stem, voices), |b| {
-                b.iter(|| {
-                    strike(&mut e);
-                    for _ in 0..(4800 / 256) {
-                        e.process(&mut l, &mut r);
-                    }
-                    e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
-                })
-            });
+            let keys = chord(&params, voices);
+            bench_strikes(&mut g, stem, voices, params, &keys);
         }
     }
     g.finish();
@@ -160,29 +181,8 @@ fn bench_pool(c: &mut Criterion<Cpu>) {
             "gong-40N",
             &[(ParamId::Polyphony, 4.0), (ParamId::Threads, threads)],
         );
-        let root = params.get(ParamId::RootKey) as u8;
-        let (mut e, _h) = Engine::new(params.clone());
-        e.activate(48_000.0, 256).unwrap();
-        let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
-        let strike = |e: &mut Engine| {
-            for k in KEYS.iter().take(4) {
-                e.note_on(root - 12 + k, 0.8);
-            }
-        };
-        strike(&mut e);
-        for _ in 0..20 {
-            e.process(&mut l, &mut r);
-        }
-        assert_eq!(e.active_voices(), 4);
-        g.bench_function(BenchmarkId::new("gong-40N-4voices-threads", threads), |b| {
-            b.iter(|| {
-                strike(&mut e);
-                for _ in 0..(4800 / 256) {
-                    e.process(&mut l, &mut r);
-                }
-                e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
-            })
-        });
+        let keys = chord(&params, 4);
+        let (e, _h) = bench_strikes(&mut g, "gong-40N-4voices-threads", threads, params, &keys);
         println!(
             "threads {threads}: {} participants, {} jobs on workers, {} late jobs",
             e.threads_used(),
@@ -214,24 +214,8 @@ fn bench_split(c: &mut Criterion<Cpu>) {
                 (ParamId::Threads, threads),
             ],
         );
-        let root = params.get(ParamId::RootKey) as u8;
-        let (mut e, _h) = Engine::new(params.clone());
-        e.activate(48_000.0, 256).unwrap();
-        let (mut l, mut r) = (vec![0.0f32; 256], vec![0.0f32; 256]);
-        e.note_on(root, 0.8);
-        for _ in 0..20 {
-            e.process(&mut l, &mut r);
-        }
-        assert_eq!(e.active_voices(), 1);
-        g.bench_function(BenchmarkId::new("moonshot-11.7kHz-threads", threads), |b| {
-            b.iter(|| {
-                e.note_on(root, 0.8);
-                for _ in 0..(4800 / 256) {
-                    e.process(&mut l, &mut r);
-                }
-                e.process(&mut l[..4800 % 256], &mut r[..4800 % 256]);
-            })
-        });
+        let root = [params.get(ParamId::RootKey) as u8];
+        let (e, _h) = bench_strikes(&mut g, "moonshot-11.7kHz-threads", threads, params, &root);
         println!(
             "threads {threads}: {} halves on the worker, {} late",
             e.shared_step_halves(),
