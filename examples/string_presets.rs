@@ -25,7 +25,7 @@
 //! percentage of one core (100 % = S seconds of CPU).
 
 use noether::engine::{Engine, ParamId, Preset, SharedParams};
-use noether::render::accuracy::log_spectral_distance;
+use noether::render::metrics::log_spectral_distance;
 use noether::render::preset_accuracy::with_overrides;
 use noether::render::report::spectral_centroid;
 use std::sync::Arc;

@@ -298,22 +298,29 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), Error> {
     if let Some(f) = &study.sensitivity {
         eprintln!(
             "floor: the reference against itself with {} {:+e} relative (inaudible): \
-             L2 (50 ms) {:.3e}, LSD {:.3} dB; distances near or below it are the note's own \
-             sensitivity, not a difference between the models",
-            f.parameter, f.relative_change, f.l2_50ms, f.lsd_db
+             L2 (50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB; distances near or below it are \
+             the note's own sensitivity, not a difference between the models",
+            f.parameter, f.relative_change, f.l2_50ms, f.lsd_db, f.band_db
         );
     }
     eprintln!(
-        "{:>20} {:>10} {:>12} {:>10} {:>12} {:>12}",
-        study.vary, "wall (s)", "L2 (50 ms)", "LSD (dB)", "partials (¢)", "balance err"
+        "{:>20} {:>10} {:>12} {:>10} {:>11} {:>12} {:>12}",
+        study.vary,
+        "wall (s)",
+        "L2 (50 ms)",
+        "LSD (dB)",
+        "bands (dB)",
+        "partials (¢)",
+        "balance err"
     );
     for r in &study.rows {
         eprintln!(
-            "{:>20} {:>10.3} {:>12.3e} {:>10.3} {:>12} {:>12.2e}",
+            "{:>20} {:>10.3} {:>12.3e} {:>10.3} {:>11.3} {:>12} {:>12.2e}",
             r.setting,
             r.wall_seconds,
             r.l2_50ms,
             r.lsd_db,
+            r.band_db,
             r.partial_cents.map_or("-".into(), |c| format!("{c:.2e}")),
             r.energy_balance_error
         );
@@ -390,6 +397,12 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
             |r| r.lsd_db,
             |f| f.lsd_db,
         ),
+        cost_panel(
+            "band-level error against cost",
+            "third-octave band distance (dB)",
+            |r| r.band_db,
+            |f| f.band_db,
+        ),
     ];
     if study.rows.iter().all(|r| r.value.is_some()) {
         let value: Vec<f64> = study.rows.iter().filter_map(|r| r.value).collect();
@@ -412,8 +425,16 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
             .push(
                 Series::line(
                     "LSD (dB)",
-                    value,
+                    value.clone(),
                     study.rows.iter().map(|r| r.lsd_db).collect(),
+                )
+                .with_mark(Mark::LinePoints),
+            )
+            .push(
+                Series::line(
+                    "bands (dB)",
+                    value,
+                    study.rows.iter().map(|r| r.band_db).collect(),
                 )
                 .with_mark(Mark::LinePoints),
             ),
@@ -422,7 +443,7 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
     let columns = panels.len();
     write_png(
         path,
-        &if columns > 2 {
+        &if columns > 3 {
             format!(
                 "{}: accuracy against {} (reference: {})",
                 study.scene, study.vary, study.reference

@@ -4,13 +4,8 @@
 //! Metrics, each comparing pickup 1 of a render with pickup 1 of the reference, both at the
 //! scene's output rate (every render is resampled to it by the render loop, so the signals share
 //! one rate and one length):
-//! - **relative L2 error over the first 50 ms**: `‖y - y_ref‖₂ / ‖y_ref‖₂` over the first
-//!   `round(0.05 · rate)` samples (long waveforms of nonlinear models diverge in phase, so only
-//!   the attack is compared sample by sample);
-//! - **log-spectral distance** over the whole render: the RMS over STFT frames and bins of
-//!   `10 log10(P + ε) - 10 log10(P_ref + ε)` (dB), Hann window of 2048 samples, hop 512, with
-//!   `ε` = 1e-8 of the reference's largest bin power (a -80 dB floor, so bins silent in both do
-//!   not count);
+//! - **relative L2 error over the first 50 ms**, **log-spectral distance** and **band-level
+//!   distance** over the whole render ([`super::metrics`]);
 //! - **linear partials**: the largest error in cents of the scheme's linear partials against
 //!   the continuous model's, over the modes below the output Nyquist frequency (closed form from
 //!   the scheme's coefficients, [`crate::analysis::dispersion`]);
@@ -19,83 +14,14 @@
 //!
 //! Runs on the CLI thread (allocates, renders).
 
+use super::metrics::{band_level_distance, log_spectral_distance, relative_l2, L2_SECONDS};
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
 use crate::error::Error;
 use crate::scene::Scene;
 use rayon::prelude::*;
-use rustfft::{num_complex::Complex, FftPlanner};
 use serde::Serialize;
-
-/// STFT window of the log-spectral distance (samples).
-pub const LSD_WINDOW: usize = 2048;
-/// STFT hop of the log-spectral distance (samples).
-pub const LSD_HOP: usize = 512;
-/// Floor of the log-spectral distance relative to the reference's largest bin power.
-pub const LSD_FLOOR: f64 = 1e-8;
-/// Length of the waveform comparison (s).
-pub const L2_SECONDS: f64 = 0.05;
-
-/// Relative L2 error `‖y - r‖ / ‖r‖` over the first `n` samples (or the common length).
-pub fn relative_l2(y: &[f64], reference: &[f64], n: usize) -> f64 {
-    let n = n.min(y.len()).min(reference.len());
-    let (mut num, mut den) = (0.0, 0.0);
-    for (a, b) in y[..n].iter().zip(&reference[..n]) {
-        num += (a - b) * (a - b);
-        den += b * b;
-    }
-    if den > 0.0 {
-        (num / den).sqrt()
-    } else {
-        num.sqrt()
-    }
-}
-
-/// Power spectra `|X|²` of Hann-windowed frames of `x`.
-fn power_frames(x: &[f64]) -> Vec<Vec<f64>> {
-    let fft = FftPlanner::<f64>::new().plan_fft_forward(LSD_WINDOW);
-    let hann: Vec<f64> = (0..LSD_WINDOW)
-        .map(|n| 0.5 - 0.5 * (std::f64::consts::TAU * n as f64 / LSD_WINDOW as f64).cos())
-        .collect();
-    let mut out = Vec::new();
-    let mut buf = vec![Complex::new(0.0, 0.0); LSD_WINDOW];
-    let mut start = 0;
-    loop {
-        for (n, b) in buf.iter_mut().enumerate() {
-            *b = Complex::new(x.get(start + n).copied().unwrap_or(0.0) * hann[n], 0.0);
-        }
-        fft.process(&mut buf);
-        out.push(
-            buf[..=LSD_WINDOW / 2]
-                .iter()
-                .map(|c| c.norm_sqr())
-                .collect(),
-        );
-        start += LSD_HOP;
-        if start + LSD_WINDOW > x.len() {
-            break;
-        }
-    }
-    out
-}
-
-/// Log-spectral distance in dB between `y` and `reference` (see the module doc).
-pub fn log_spectral_distance(y: &[f64], reference: &[f64]) -> f64 {
-    let n = y.len().min(reference.len());
-    let (a, b) = (power_frames(&y[..n]), power_frames(&reference[..n]));
-    let peak = b.iter().flatten().fold(0.0f64, |m, &p| m.max(p));
-    let eps = (LSD_FLOOR * peak).max(f64::MIN_POSITIVE);
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (fa, fb) in a.iter().zip(&b) {
-        for (pa, pb) in fa.iter().zip(fb) {
-            let d = 10.0 * ((pa + eps) / (pb + eps)).log10();
-            sum += d * d;
-            count += 1;
-        }
-    }
-    (sum / count.max(1) as f64).sqrt()
-}
 
 /// One row of an accuracy table.
 #[derive(Debug, Clone, Serialize)]
@@ -118,6 +44,8 @@ pub struct AccuracyRow {
     pub l2_50ms: f64,
     /// Log-spectral distance of pickup 1 over the whole render (dB).
     pub lsd_db: f64,
+    /// Band-level (third-octave) distance of pickup 1 over the whole render (dB).
+    pub band_db: f64,
     /// Largest error of the linear partials below the output Nyquist frequency against the
     /// continuous model (cents, closed form; `None` when the model reports none).
     pub partial_cents: Option<f64>,
@@ -171,6 +99,8 @@ pub struct SensitivityFloor {
     pub l2_50ms: f64,
     /// Log-spectral distance (dB), as [`AccuracyRow::lsd_db`].
     pub lsd_db: f64,
+    /// Band-level distance (dB), as [`AccuracyRow::band_db`].
+    pub band_db: f64,
 }
 
 /// One setting of a study: its label, its numeric value when it has one, and the scene under it.
@@ -203,6 +133,7 @@ pub fn compare(
         wall_seconds: report.wall_seconds,
         l2_50ms: relative_l2(&r.out[0], &reference.out[0], n),
         lsd_db: log_spectral_distance(&r.out[0], &reference.out[0]),
+        band_db: band_level_distance(&r.out[0], &reference.out[0], f64::from(out_rate)),
         partial_cents: report.linear_partials_max_cents,
         energy_balance_error: report.energy.max_balance_error,
         energy_drift: report.energy.max_rel_drift,
@@ -254,12 +185,13 @@ pub fn study(
         let (r, report) = render?;
         let row = compare(v, &r, &report, &ref_out, out_rate);
         log(&format!(
-            "{} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, partials {} cents, balance error {:.2e}",
+            "{} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB, partials {} cents, balance error {:.2e}",
             vary,
             v.setting,
             row.wall_seconds,
             row.l2_50ms,
             row.lsd_db,
+            row.band_db,
             row.partial_cents.map_or("-".into(), |c| format!("{c:.2e}")),
             row.energy_balance_error
         ));
@@ -309,33 +241,4 @@ pub fn study_rate(
         format!("the same scene at sim_rate = {reference_rate} Hz (same modes, same scheme)"),
         log,
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Identical signals have zero distance; a 1 % amplitude change gives L2 = 0.01 exactly
-    /// (to round-off, 1e-12) and, on a broadband signal whose bins all lie far above the -80 dB
-    /// floor, an LSD of 20 log10(1.01) = 0.0864 dB (the floor's pull is below 1e-6 dB here).
-    #[test]
-    fn metrics_of_known_differences() {
-        // Deterministic pseudo-random noise (xorshift64), uniform in [-1, 1).
-        let mut state = 0x9E37_79B9_7F4A_7C15u64;
-        let x: Vec<f64> = (0..48_000)
-            .map(|_| {
-                state ^= state << 13;
-                state ^= state >> 7;
-                state ^= state << 17;
-                (state >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-            })
-            .collect();
-        let y: Vec<f64> = x.iter().map(|v| 1.01 * v).collect();
-        assert_eq!(relative_l2(&x, &x, 2400), 0.0);
-        assert_eq!(log_spectral_distance(&x, &x), 0.0);
-        assert!((relative_l2(&y, &x, 2400) - 0.01).abs() < 1e-12);
-        let lsd = log_spectral_distance(&y, &x);
-        let full = 20.0 * 1.01f64.log10();
-        assert!((lsd - full).abs() < 1e-6, "{lsd} vs {full}");
-    }
 }

@@ -3,6 +3,7 @@
 
 pub mod accuracy;
 pub mod auto;
+pub mod metrics;
 pub mod midi;
 pub mod offline;
 pub mod play;

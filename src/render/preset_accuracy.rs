@@ -13,9 +13,8 @@
 //! one-voice render gives it nothing to share). [`preset_study`] runs its renders on rayon's
 //! threads.
 
-use super::accuracy::{
-    log_spectral_distance, relative_l2, AccuracyRow, AccuracyStudy, SensitivityFloor,
-};
+use super::accuracy::{AccuracyRow, AccuracyStudy, SensitivityFloor};
+use super::metrics::{band_level_distance, log_spectral_distance, relative_l2, L2_SECONDS};
 use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
@@ -213,17 +212,22 @@ pub fn preset_study(
         "reference ({reference_description}): {:.2} s wall",
         r.wall_seconds
     ));
-    let n = (super::accuracy::L2_SECONDS * PRESET_HOST_RATE).round() as usize;
+    let n = (L2_SECONDS * PRESET_HOST_RATE).round() as usize;
     let nudged = nudged_render?;
     let sensitivity = SensitivityFloor {
         parameter: level.info().key.to_string(),
         relative_change: SENSITIVITY_CHANGE,
         l2_50ms: relative_l2(&nudged.left, &r.left, n),
         lsd_db: log_spectral_distance(&nudged.left, &r.left),
+        band_db: band_level_distance(&nudged.left, &r.left, PRESET_HOST_RATE),
     };
     log(&format!(
-        "floor: the reference with {} {:+e} relative: L2(50 ms) {:.3e}, LSD {:.3} dB",
-        sensitivity.parameter, SENSITIVITY_CHANGE, sensitivity.l2_50ms, sensitivity.lsd_db
+        "floor: the reference with {} {:+e} relative: L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB",
+        sensitivity.parameter,
+        SENSITIVITY_CHANGE,
+        sensitivity.l2_50ms,
+        sensitivity.lsd_db,
+        sensitivity.band_db
     ));
     let mut rows = Vec::new();
     for (v, render) in variants.iter().zip(renders) {
@@ -238,6 +242,7 @@ pub fn preset_study(
             wall_seconds: x.wall_seconds,
             l2_50ms: relative_l2(&x.left, &r.left, n),
             lsd_db: log_spectral_distance(&x.left, &r.left),
+            band_db: band_level_distance(&x.left, &r.left, PRESET_HOST_RATE),
             partial_cents: None,
             energy_balance_error: x.energy_balance_error,
             energy_drift: x.energy_drift,
@@ -245,8 +250,13 @@ pub fn preset_study(
             newton_failures: None,
         };
         log(&format!(
-            "{vary} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, balance error {:.2e}",
-            v.setting, row.wall_seconds, row.l2_50ms, row.lsd_db, row.energy_balance_error
+            "{vary} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB, balance error {:.2e}",
+            v.setting,
+            row.wall_seconds,
+            row.l2_50ms,
+            row.lsd_db,
+            row.band_db,
+            row.energy_balance_error
         ));
         rows.push(row);
     }

@@ -49,7 +49,7 @@ pub struct Quality {
     /// `as-given` (default) or `auto`.
     #[serde(default)]
     pub mode: QualityMode,
-    /// Largest log-spectral distance (dB, [`crate::render::accuracy::log_spectral_distance`],
+    /// Largest log-spectral distance (dB, [`crate::render::metrics::log_spectral_distance`],
     /// worst pickup) of the chosen model against the full model over the excerpt
     /// (1e-9 to 60 dB; default 1 dB).
     #[serde(default = "default_tolerance_db")]

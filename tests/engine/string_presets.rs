@@ -3,7 +3,7 @@
 //! in their mode count.
 
 use noether::engine::{Engine, ParamId, Preset, SharedParams};
-use noether::render::accuracy::log_spectral_distance;
+use noether::render::metrics::log_spectral_distance;
 use noether::render::preset_accuracy::{render_preset, with_overrides};
 use noether::render::report::spectral_centroid;
 use std::sync::Arc;

@@ -10,10 +10,10 @@
 //! few seconds in the test profile.
 
 use noether::models::string::StringParams;
-use noether::render::accuracy::{log_spectral_distance, relative_l2};
 use noether::render::auto::plan::{divisor_rate, plan};
 use noether::render::auto::plan_string::{mode_hz, modes_to_cover, NYQUIST_MARGIN};
 use noether::render::auto::select;
+use noether::render::metrics::{log_spectral_distance, relative_l2};
 use noether::render::scene::render_scene;
 use noether::scene::plate::Symmetry;
 use noether::scene::{Scene, SceneError};

@@ -7,7 +7,8 @@ use noether::render::preset_accuracy::{
     SENSITIVITY_CHANGE,
 };
 
-/// The engine is deterministic: a variant equal to the reference has L2 and LSD exactly 0; a
+/// The engine is deterministic: a variant equal to the reference has L2, LSD and band-level
+/// distance exactly 0; a
 /// variant with fewer modes has a positive error; the voice closes its power balance to 1e-9 of
 /// its largest energy (the engine's exact-linear-part scheme, f64 state: round-off is about
 /// 1e-12 per the render tests, 1e-9 leaves room for the damped, struck, retuned voice).
@@ -44,15 +45,17 @@ fn preset_study_measures_differences_and_nothing_else() {
         "identical settings must render identically"
     );
     assert_eq!(same.lsd_db, 0.0);
+    assert_eq!(same.band_db, 0.0);
     assert!(
         coarse.l2_50ms > 1e-3,
         "10 modes vs 20: L2 {}",
         coarse.l2_50ms
     );
     assert!(
-        coarse.lsd_db > 0.01,
-        "10 modes vs 20: LSD {}",
-        coarse.lsd_db
+        coarse.lsd_db > 0.01 && coarse.band_db > 0.01,
+        "10 modes vs 20: LSD {}, bands {}",
+        coarse.lsd_db,
+        coarse.band_db
     );
     for r in &study.rows {
         assert!(r.energy_balance_error < 1e-9, "{r:?}");
@@ -61,7 +64,8 @@ fn preset_study_measures_differences_and_nothing_else() {
     // The floor: the reference struck 1e-4 softer. Its linear response scales by exactly 1e-4;
     // the nonlinear coupling adds a small phase drift over the first 50 ms (measured 1.9e-4),
     // and a 0.1 s note of 20 modes is far from the cascade's sensitivity (L2 below 1e-3, LSD
-    // below 0.05 dB). A floor of 0 would mean the change never reached the note.
+    // and band distance below 0.05 dB). A floor of 0 would mean the change never reached the
+    // note.
     let floor = study
         .sensitivity
         .expect("a preset study measures its floor");
@@ -69,6 +73,7 @@ fn preset_study_measures_differences_and_nothing_else() {
     assert_eq!(floor.parameter, "strike_force");
     assert!((0.9e-4..1e-3).contains(&floor.l2_50ms), "{floor:?}");
     assert!(floor.lsd_db > 0.0 && floor.lsd_db < 0.05, "{floor:?}");
+    assert!(floor.band_db > 0.0 && floor.band_db < 0.05, "{floor:?}");
 }
 
 /// The floor changes the parameter that sets how hard the note is excited: the pluck of a

@@ -11,7 +11,7 @@ use super::plan::plan;
 use super::report::{AutoReport, CandidateResult};
 use super::size::ModelSize;
 use crate::error::Error;
-use crate::render::accuracy::{log_spectral_distance, relative_l2, L2_SECONDS};
+use crate::render::metrics::{log_spectral_distance, relative_l2, L2_SECONDS};
 use crate::render::offline::Rendered;
 use crate::render::scene::render_scene;
 use crate::scene::{Quality, QualityMode, Scene};
