@@ -1,5 +1,8 @@
-//! File output shared by the subcommands: errors name the path.
+//! File output shared by the subcommands: errors name the path; the output arguments of
+//! `render` and `play`.
 
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
 use noether::Error;
 use std::path::{Path, PathBuf};
 
@@ -19,18 +22,56 @@ pub(super) fn write_text(path: &Path, text: &str) -> Result<(), Error> {
     })
 }
 
-/// The WAV and JSON report paths of a command that writes both: `output` or
-/// `out/<default_name>`, and `report` or the WAV's path with the extension `json`. Creates the
-/// WAV's folder.
-pub(super) fn wav_and_report(
-    output: Option<&Path>,
-    default_name: &str,
-    report: Option<&Path>,
-) -> Result<(PathBuf, PathBuf), Error> {
-    let wav = output.map_or_else(|| Path::new("out").join(default_name), Path::to_path_buf);
-    let report = report.map_or_else(|| wav.with_extension("json"), Path::to_path_buf);
-    if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
-        create_dir(parent)?;
+/// Where a render writes its files, and whether it shows progress: the arguments `noether
+/// render` and `noether play` share.
+#[derive(Debug, Args)]
+pub struct OutputArgs {
+    /// Output WAV (32-bit float) [default: out/<scene>.wav for a scene, out/play-<preset>.wav
+    /// for a preset].
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// JSON report path [default: beside the WAV, <name>.json].
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Folder for the PNG figures (waveform and spectrogram; a scene's render adds its energy
+    /// curves).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// No progress bar.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+impl OutputArgs {
+    /// The WAV and JSON report paths: `--output` or `out/<default_name>`, and `--report` or
+    /// the WAV's path with the extension `json`. Creates the WAV's folder.
+    pub fn wav_and_report(&self, default_name: &str) -> Result<(PathBuf, PathBuf), Error> {
+        let wav = self
+            .output
+            .clone()
+            .unwrap_or_else(|| Path::new("out").join(default_name));
+        let report = self
+            .report
+            .clone()
+            .unwrap_or_else(|| wav.with_extension("json"));
+        if let Some(parent) = wav.parent().filter(|p| !p.as_os_str().is_empty()) {
+            create_dir(parent)?;
+        }
+        Ok((wav, report))
     }
-    Ok((wav, report))
+
+    /// A progress bar of 1000 steps (hidden with `--quiet`).
+    pub fn progress_bar(&self) -> ProgressBar {
+        let bar = if self.quiet {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(1000)
+        };
+        // The template is a constant: it parses (the default bar would do otherwise).
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar
+    }
 }

@@ -2,8 +2,8 @@
 //! headless, exactly as the plugin plays it ([`noether::render::play`]); writes a WAV, a JSON
 //! report and (with `--plot`) a waveform and a spectrogram.
 
+use super::files::OutputArgs;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use noether::engine::{load_scala, KeyTuning};
 use noether::render::midi::load_midi;
 use noether::render::play::{
@@ -53,15 +53,9 @@ pub struct PlayArgs {
     /// Seconds rendered after the last note-off (0 to 600).
     #[arg(long, default_value_t = 2.0)]
     pub tail: f64,
-    /// Output WAV (stereo, 32-bit float) [default: out/play-<preset>.wav].
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// JSON report path [default: beside the WAV, <name>.json].
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// Folder for the PNG figures (waveform, spectrogram).
-    #[arg(long)]
-    pub plot: Option<PathBuf>,
+    /// Output files and progress.
+    #[command(flatten)]
+    pub out: OutputArgs,
     /// A Scala scale file: the keys play its pitches instead of 12-tone equal temperament
     /// (degree 0 on key 60 at 261.626 Hz unless --kbm maps the keys).
     #[arg(long, value_name = "FILE.scl")]
@@ -69,9 +63,6 @@ pub struct PlayArgs {
     /// A Scala keyboard mapping for --scl (reference key and frequency, unmapped keys).
     #[arg(long, value_name = "FILE.kbm", requires = "scl")]
     pub kbm: Option<PathBuf>,
-    /// No progress bar.
-    #[arg(long, short)]
-    pub quiet: bool,
 }
 
 /// The performance the arguments describe.
@@ -114,11 +105,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         tuning,
     };
     settings.validate()?;
-    let (wav, report_path) = super::files::wav_and_report(
-        a.output.as_deref(),
-        &format!("play-{}.wav", found.stem),
-        a.report.as_deref(),
-    )?;
+    let (wav, report_path) = a.out.wav_and_report(&format!("play-{}.wav", found.stem))?;
     eprintln!(
         "playing {} ({}): {} events, {:.2} s + {:.2} s tail at {} Hz, blocks of {}",
         found.stem,
@@ -129,15 +116,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         a.rate,
         a.block
     );
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(1000)
-    };
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = a.out.progress_bar();
     let played = play(&found, &tl, &settings, |f| {
         bar.set_position((f * 1000.0) as u64)
     })?;
@@ -177,7 +156,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         r.bank_seconds
     );
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
-    if let Some(dir) = &a.plot {
+    if let Some(dir) = &a.out.plot {
         super::files::create_dir(dir)?;
         let stem = wav
             .file_stem()

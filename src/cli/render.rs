@@ -1,7 +1,7 @@
 //! `noether render SCENE`: offline render of a scene file to WAV, JSON report and plots.
 
+use super::files::OutputArgs;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use noether::render::auto::select;
 use noether::render::report::write_plots;
 use noether::render::scene::render_scene_on;
@@ -18,22 +18,13 @@ pub const DEFAULT_SCENE: &str = "assets/scenes/gong.toml";
 pub struct RenderArgs {
     /// Scene file (TOML), e.g. assets/scenes/gong.toml.
     pub scene: PathBuf,
-    /// Output WAV (32-bit float) [default: out/<scene>.wav].
-    #[arg(short, long)]
-    pub output: Option<PathBuf>,
-    /// JSON report path [default: beside the WAV, <scene>.json].
-    #[arg(long)]
-    pub report: Option<PathBuf>,
-    /// Folder for the PNG figures (energy curves, waveform, spectrogram).
-    #[arg(long)]
-    pub plot: Option<PathBuf>,
+    /// Output files and progress.
+    #[command(flatten)]
+    pub out: OutputArgs,
     /// Override a scene field by its dotted path, e.g. --set plate.excitation.peak_force=80
     /// (repeatable).
     #[arg(long = "set", value_name = "PATH=VALUE")]
     pub set: Vec<String>,
-    /// No progress bar.
-    #[arg(long, short)]
-    pub quiet: bool,
     /// Threads for one render (1 to 2; 0 = the machine's cores, at most 2): with 2, the step
     /// of a plate with the `sav` scheme and a large coupling tensor (at least 150 000 stored
     /// entries) is shared between two threads.
@@ -52,25 +43,12 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
     } else {
         (loaded, None)
     };
-    let (wav, report_path) = super::files::wav_and_report(
-        a.output.as_deref(),
-        &format!("{}.wav", scene.name),
-        a.report.as_deref(),
-    )?;
+    let (wav, report_path) = a.out.wav_and_report(&format!("{}.wav", scene.name))?;
     eprintln!(
         "rendering {} ({} s at {} Hz output)",
         scene.name, scene.output.seconds, scene.output.sample_rate
     );
-    let bar = if a.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::new(1000)
-    };
-    // The template is a constant: it parses (the default bar would do otherwise).
-    bar.set_style(
-        ProgressStyle::with_template("{bar:40} {percent:>3}% elapsed {elapsed} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
+    let bar = a.out.progress_bar();
     let threads = match a.threads {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
         n => usize::from(n),
@@ -122,7 +100,7 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
         );
     }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
-    if let Some(dir) = &a.plot {
+    if let Some(dir) = &a.out.plot {
         // The output holds only modal frequencies: show the model's band (a log axis up to
         // 1.25x its highest mode, so the band's top stays visible), capped at Nyquist.
         let f_max = report
@@ -153,11 +131,13 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
 pub fn run_default() -> Result<(), Error> {
     run(RenderArgs {
         scene: PathBuf::from(DEFAULT_SCENE),
-        output: None,
-        report: None,
-        plot: Some(PathBuf::from("out")),
+        out: OutputArgs {
+            output: None,
+            report: None,
+            plot: Some(PathBuf::from("out")),
+            quiet: false,
+        },
         set: Vec::new(),
-        quiet: false,
         threads: 0,
     })
 }
