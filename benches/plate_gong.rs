@@ -13,28 +13,27 @@ use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
 use std::hint::black_box;
+use std::path::Path;
+
+/// The lecture's gong scene the voices start from.
+const SEED_GONG: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/scenes/seed-gong-40N.toml"
+);
 
 const STEPS: usize = 32;
 
+/// The lecture's gong (`assets/scenes/seed-gong-40N.toml`) with `n_phi × n_psi` modes under
+/// `scheme`, at 40 kHz, struck for 1 ms at 80 N.
 fn voice(n_phi: usize, n_psi: usize, scheme: &str) -> PlateVoice {
-    let text = format!(
-        r#"
-[output]
-sample_rate = 48000
-seconds = 1.0
-[plate]
-shape = "circular-free"
-radius = 0.4
-thickness = 0.001
-n_phi = {n_phi}
-n_psi = {n_psi}
-sim_rate = 40000
-scheme = "{scheme}"
-damping = {{ law = "power", a = 0.005, b = 0.6 }}
-excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.001, peak_force = 80.0 }}
-"#
-    );
-    let scene = Scene::from_toml(&text, "bench", &[]).unwrap();
+    let sets = [
+        format!("plate.n_phi={n_phi}"),
+        format!("plate.n_psi={n_psi}"),
+        format!("plate.scheme={scheme}"),
+        "plate.excitation.duration=0.001".into(),
+        "plate.excitation.peak_force=80".into(),
+    ];
+    let scene = Scene::load(Path::new(SEED_GONG), &sets).unwrap();
     PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
 }
 

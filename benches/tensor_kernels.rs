@@ -18,7 +18,14 @@ use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
 use std::hint::black_box;
+use std::path::Path;
 use std::time::Duration;
+
+/// The lecture's gong scene the voices start from.
+const SEED_GONG: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/scenes/seed-gong-40N.toml"
+);
 
 /// Steps per iteration of the whole-step bench.
 const STEPS: usize = 32;
@@ -60,29 +67,19 @@ fn sizes() -> Vec<(String, bool, usize, usize)> {
         .collect()
 }
 
-/// The gong voice of `examples/gong_rtf.rs` with the given basis, size and storage.
+/// The gong voice of `examples/gong_rtf.rs` (the lecture's gong, `sav` at 12 kHz) with the
+/// given basis, size and storage.
 fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str) -> PlateVoice {
     let symmetry = if mirror { "strike-mirror" } else { "full" };
-    let text = format!(
-        r#"
-[output]
-sample_rate = 48000
-seconds = 1.0
-[plate]
-shape = "circular-free"
-radius = 0.4
-thickness = 0.001
-n_phi = {n_phi}
-n_psi = {n_psi}
-sim_rate = 12000
-scheme = "sav"
-symmetry = "{symmetry}"
-tensor_storage = "{storage}"
-damping = {{ law = "power", a = 0.005, b = 0.6 }}
-excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
-"#
-    );
-    let scene = Scene::from_toml(&text, "bench", &[]).unwrap();
+    let sets = [
+        format!("plate.n_phi={n_phi}"),
+        format!("plate.n_psi={n_psi}"),
+        "plate.sim_rate=12000".into(),
+        "plate.scheme=sav".into(),
+        format!("plate.symmetry={symmetry}"),
+        format!("plate.tensor_storage={storage}"),
+    ];
+    let scene = Scene::load(Path::new(SEED_GONG), &sets).unwrap();
     PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
 }
 

@@ -26,30 +26,29 @@ use noether::modal::CouplingTensor;
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
+use std::path::Path;
 
+/// The lecture's gong scene the voices start from.
+const SEED_GONG: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/assets/scenes/seed-gong-40N.toml"
+);
+
+/// The lecture's gong (`assets/scenes/seed-gong-40N.toml`: 10 ms strike at 40 N) with
+/// `n_phi × n_psi` modes under `scheme` at `fs` Hz, its basis and tensor storage from the
+/// environment (`GONG_RTF_SYMMETRY`, `GONG_RTF_STORAGE`).
 fn voice(scheme: &str, fs: f64, n_phi: usize, n_psi: usize) -> PlateVoice {
     let symmetry = std::env::var("GONG_RTF_SYMMETRY").unwrap_or_else(|_| "full".into());
     let storage = std::env::var("GONG_RTF_STORAGE").unwrap_or_else(|_| "double".into());
-    let text = format!(
-        r#"
-[output]
-sample_rate = 48000
-seconds = 1.0
-[plate]
-shape = "circular-free"
-radius = 0.4
-thickness = 0.001
-n_phi = {n_phi}
-n_psi = {n_psi}
-sim_rate = {fs}
-scheme = "{scheme}"
-symmetry = "{symmetry}"
-tensor_storage = "{storage}"
-damping = {{ law = "power", a = 0.005, b = 0.6 }}
-excitation = {{ kind = "strike", at = {{ r = 0.92 }}, duration = 0.01, peak_force = 40.0 }}
-"#
-    );
-    let scene = Scene::from_toml(&text, "gong_rtf", &[]).expect("scene");
+    let sets = [
+        format!("plate.n_phi={n_phi}"),
+        format!("plate.n_psi={n_psi}"),
+        format!("plate.sim_rate={fs}"),
+        format!("plate.scheme={scheme}"),
+        format!("plate.symmetry={symmetry}"),
+        format!("plate.tensor_storage={storage}"),
+    ];
+    let scene = Scene::load(Path::new(SEED_GONG), &sets).expect("scene");
     PlateVoice::build(scene.plate.as_ref().expect("plate")).expect("voice")
 }
 
