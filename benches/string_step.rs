@@ -23,7 +23,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use noether::models::string::{
     ContactLaw, ContactScheme, GridSynthesis, Losses, Obstacle, OutputChannel, Quantity, Readout,
-    SitarBridge, StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 use std::hint::black_box;
@@ -41,12 +41,7 @@ fn string(modes: usize, fs: f64) -> StiffString {
     let mut s = StiffString::new(&StringConfig {
         params: StringParams::lecture_guitar(intervals(modes), fs),
         losses: Losses::Valette(ValetteLosses::default()),
-        obstacle: Obstacle::Sitar(SitarBridge {
-            position: 0.0,
-            curvature: 0.2,
-            height: 0.0,
-            extent: 0.02,
-        }),
+        obstacle: Obstacle::seed_sitar(),
         contact: ContactLaw::lecture(),
         outputs: vec![
             OutputChannel::Pickup {

@@ -77,10 +77,9 @@ impl Place {
         let extent = (0.02f64).max(1.01 * p.dx()).min(0.99 * p.length);
         let sitar = |height| {
             Obstacle::Sitar(SitarBridge {
-                position: 0.0,
-                curvature: 0.2,
                 height,
                 extent,
+                ..SitarBridge::seed()
             })
         };
         let point = |height| Obstacle::Point {

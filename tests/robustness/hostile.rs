@@ -432,11 +432,10 @@ proptest! {
         let obstacle = match obstacle_kind {
             0 => Obstacle::None,
             1 => Obstacle::Sitar(SitarBridge {
-                position: 0.0,
-                curvature: 0.2,
                 height,
                 // At least one grid node, inside the string.
                 extent: (0.3 * length).max(1.5 * length / intervals as f64).min(0.9 * length),
+                ..SitarBridge::seed()
             }),
             2 => Obstacle::Point { position: at * length, height, width: 0.0 },
             3 => Obstacle::Fretboard { distance: height.abs() },

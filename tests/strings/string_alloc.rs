@@ -5,8 +5,8 @@
 //! checked with a deliberate `Vec` allocation first).
 
 use noether::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
-    StiffString, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, StiffString,
+    StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 
@@ -28,12 +28,7 @@ fn check_scheme(scheme: ContactScheme) {
     let mut s = StiffString::new(&StringConfig {
         params: StringParams::lecture_guitar(256, 48_000.0),
         losses: Losses::Valette(ValetteLosses::default()),
-        obstacle: Obstacle::Sitar(SitarBridge {
-            position: 0.0,
-            curvature: 0.2,
-            height: 0.0,
-            extent: 0.02,
-        }),
+        obstacle: Obstacle::seed_sitar(),
         contact: ContactLaw::lecture(),
         outputs: vec![
             OutputChannel::Pickup {

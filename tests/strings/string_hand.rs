@@ -7,8 +7,7 @@
 
 use noether::models::plate::hand_damping_for_t60;
 use noether::models::string::{
-    ContactLaw, ContactScheme, GridSynthesis, Losses, Obstacle, SitarBridge, StiffString,
-    StrikeForce,
+    ContactLaw, ContactScheme, GridSynthesis, Losses, Obstacle, StiffString, StrikeForce,
 };
 use noether_testkit::harness::{lecture_string_with_law, LECTURE_PLUCK};
 
@@ -19,16 +18,6 @@ const HAND_AT: f64 = 0.9;
 /// kg/m) gets `σ = cφ²/2μ ≈ 16` 1/s, so the hand takes most of the energy in the 0.25 s runs.
 const C_HAND: f64 = 0.2;
 
-/// The lecture's sitar bridge: crest at the `x = 0` termination, falling as `-0.2 x²` over 2 cm.
-fn sitar() -> Obstacle {
-    Obstacle::Sitar(SitarBridge {
-        position: 0.0,
-        curvature: 0.2,
-        height: 0.0,
-        extent: 0.02,
-    })
-}
-
 /// The lecture string at N = 500, 48 kHz, against the sitar bridge, with `losses`, `scheme`
 /// and `path`, plucked (1 mm at 0.3 m).
 fn plucked(losses: Losses, scheme: ContactScheme, path: GridSynthesis) -> StiffString {
@@ -36,7 +25,7 @@ fn plucked(losses: Losses, scheme: ContactScheme, path: GridSynthesis) -> StiffS
         500,
         48_000.0,
         losses,
-        sitar(),
+        Obstacle::seed_sitar(),
         ContactLaw::lecture(),
         scheme,
     );

@@ -15,7 +15,7 @@ fn string(losses: Losses, scheme: ContactScheme) -> StiffString {
         200,
         FS,
         losses,
-        noether_testkit::harness::sitar(),
+        noether::models::string::Obstacle::seed_sitar(),
         scheme,
     );
     s.pluck(&TrianglePluck {

@@ -6,7 +6,7 @@
 
 use noether::models::string::{
     ContactLaw, GridSynthesis, Losses, ModalMap, Obstacle, OutputChannel, Quantity, Readout,
-    SitarBridge, StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    StiffString, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether::render::source::RenderSource;
 
@@ -16,12 +16,7 @@ fn sitar(intervals: usize, fs: f64) -> StiffString {
     let mut s = StiffString::new(&StringConfig {
         params: StringParams::lecture_guitar(intervals, fs),
         losses: Losses::Valette(ValetteLosses::default()),
-        obstacle: Obstacle::Sitar(SitarBridge {
-            position: 0.0,
-            curvature: 0.2,
-            height: 0.0,
-            extent: 0.02,
-        }),
+        obstacle: Obstacle::seed_sitar(),
         contact: ContactLaw::lecture(),
         outputs: vec![
             OutputChannel::Pickup {

@@ -6,22 +6,10 @@
 //! no allocation: `string_alloc.rs` runs both schemes.
 
 use noether::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, SitarBridge, StiffString, StrikeForce,
-    TrianglePluck,
+    ContactLaw, ContactScheme, Losses, Obstacle, StiffString, StrikeForce, TrianglePluck,
 };
 use noether::render::source::RenderSource;
 use noether::scene::Scene;
-
-/// The lecture's sitar bridge (as in `noether_testkit::harness::sitar`): crest at the termination,
-/// falling as `-0.2 x²` over 2 cm.
-fn sitar() -> Obstacle {
-    Obstacle::Sitar(SitarBridge {
-        position: 0.0,
-        curvature: 0.2,
-        height: 0.0,
-        extent: 0.02,
-    })
-}
 
 /// Lecture string with the given grid, rate, losses, obstacle, law and scheme; outputs: grid
 /// displacement at 0.37 m, modal velocity at 0.37 m, obstacle force.
@@ -95,7 +83,7 @@ fn run(s: &mut StiffString, steps: usize) -> Run {
 fn quadratisation_gap_and_soft_contact_are_measured() {
     let law = ContactLaw::lecture();
     let worst = |fs: f64, steps: usize, scheme| {
-        let mut s = string(500, fs, Losses::None, sitar(), law, scheme);
+        let mut s = string(500, fs, Losses::None, Obstacle::seed_sitar(), law, scheme);
         pluck(&mut s);
         let mut out = vec![vec![0.0; 1]; s.channels()];
         let (mut gap, mut min_force, mut max) = (0.0f64, 0.0f64, 0.0f64);
@@ -162,7 +150,7 @@ fn scheme_distance(fs: f64, k: f64) -> f64 {
     };
     let mut sig = Vec::new();
     for scheme in ContactScheme::ALL {
-        let mut s = string(200, fs, Losses::None, sitar(), law, scheme);
+        let mut s = string(200, fs, Losses::None, Obstacle::seed_sitar(), law, scheme);
         pluck(&mut s);
         sig.push(run(&mut s, steps).signal);
         assert!(s.contact_stats().contact_steps > 0);

@@ -244,16 +244,6 @@ fn plate_cases(cases: &mut Vec<Case>, storage: TensorStorage) {
     }
 }
 
-/// The lecture's sitar bridge: a crest at the termination falling away as `-0.2 x²` over 2 cm.
-pub fn sitar() -> Obstacle {
-    Obstacle::Sitar(SitarBridge {
-        position: 0.0,
-        curvature: 0.2,
-        height: 0.0,
-        extent: 0.02,
-    })
-}
-
 /// The lecture's string (L = 1 m, T = 180.5 N, μ = 1.17e-3 kg/m, B = 2e-5, d = 0.43 mm) with the
 /// lecture's contact law and the given grid, rate, losses, obstacle and contact scheme;
 /// outputs: grid displacement and modal velocity at 0.37 m, obstacle force.
@@ -349,7 +339,7 @@ fn string_cases(cases: &mut Vec<Case>) {
             (
                 "sitar/lossless-48k",
                 48_000,
-                Box::new(plucked(500, 48e3, Losses::None, sitar)) as Builder,
+                Box::new(plucked(500, 48e3, Losses::None, Obstacle::seed_sitar)) as Builder,
                 contact,
                 3e-13,
             ),
@@ -363,7 +353,7 @@ fn string_cases(cases: &mut Vec<Case>) {
             (
                 "sitar/lossless-2M",
                 40_000,
-                Box::new(plucked(500, 2e6, Losses::None, sitar)),
+                Box::new(plucked(500, 2e6, Losses::None, Obstacle::seed_sitar)),
                 contact,
                 3e-13,
             ),
@@ -377,7 +367,7 @@ fn string_cases(cases: &mut Vec<Case>) {
             (
                 "sitar/lossy-48k",
                 48_000,
-                Box::new(plucked(500, 48e3, valette(), sitar)),
+                Box::new(plucked(500, 48e3, valette(), Obstacle::seed_sitar)),
                 lossy,
                 4e-12,
             ),

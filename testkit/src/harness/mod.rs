@@ -36,8 +36,8 @@ use noether_core::models::plate::spec::{
 use noether_core::models::plate::voice::PlateVoice;
 use noether_core::models::source::{ContactSummary, EnergyTerms, ModelDetails, RenderSource};
 use noether_core::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
-    StiffString, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, StiffString,
+    StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use noether_core::schemes::{build_oscillator, OscillatorSpec, OscillatorStepper};
 use std::fmt;

@@ -72,7 +72,26 @@ fn nearest_node(p: &StringParams, x: f64) -> usize {
     i.clamp(1, p.intervals - 1) - 1
 }
 
+impl SitarBridge {
+    /// The bridge of the lecture's sitar scene (`assets/scenes/seed-sitar.toml`, SEED.md 3.2:
+    /// `g(x) = a x²` with our `a = -0.2` m⁻¹ over the first 20 mm, 80 µm below the rest line at
+    /// its far edge).
+    pub fn seed() -> Self {
+        Self {
+            position: 0.0,
+            curvature: 0.2,
+            height: 0.0,
+            extent: 0.02,
+        }
+    }
+}
+
 impl Obstacle {
+    /// The lecture's sitar scene's bridge ([`SitarBridge::seed`]).
+    pub fn seed_sitar() -> Self {
+        Obstacle::Sitar(SitarBridge::seed())
+    }
+
     /// The tanpura bridge of the lecture: a single-node point contact 6 mm from the end, at the
     /// string's rest height.
     pub fn tanpura() -> Self {
