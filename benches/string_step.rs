@@ -61,15 +61,16 @@ fn string(modes: usize, fs: f64) -> StiffString {
     s
 }
 
-fn bench_2mhz(c: &mut Criterion) {
-    let mut g = c.benchmark_group("string_2mhz");
+/// Group `group`: `steps` steps of the lecture's sitar string at `fs` Hz, per mode count,
+/// measured for `seconds`.
+fn bench_at_rate(c: &mut Criterion, group: &str, fs: f64, steps: usize, seconds: u64) {
+    let mut g = c.benchmark_group(group);
     g.sample_size(10)
         .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(4));
-    let steps = 4000;
+        .measurement_time(Duration::from_secs(seconds));
     g.throughput(Throughput::Elements(steps as u64));
     for &m in &MODES {
-        let mut s = string(m, 2_000_000.0);
+        let mut s = string(m, fs);
         let mut out = vec![vec![0.0; steps]; s.channels()];
         g.bench_with_input(BenchmarkId::from_parameter(intervals(m) - 1), &m, |b, _| {
             b.iter(|| {
@@ -81,24 +82,12 @@ fn bench_2mhz(c: &mut Criterion) {
     g.finish();
 }
 
+fn bench_2mhz(c: &mut Criterion) {
+    bench_at_rate(c, "string_2mhz", 2_000_000.0, 4000, 4);
+}
+
 fn bench_8x48k(c: &mut Criterion) {
-    let mut g = c.benchmark_group("string_8x48k");
-    g.sample_size(10)
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(3));
-    let steps = 3840;
-    g.throughput(Throughput::Elements(steps as u64));
-    for &m in &MODES {
-        let mut s = string(m, 384_000.0);
-        let mut out = vec![vec![0.0; steps]; s.channels()];
-        g.bench_with_input(BenchmarkId::from_parameter(intervals(m) - 1), &m, |b, _| {
-            b.iter(|| {
-                s.process(&mut out, steps);
-                black_box(out[0][steps - 1])
-            })
-        });
-    }
-    g.finish();
+    bench_at_rate(c, "string_8x48k", 384_000.0, 3840, 3);
 }
 
 fn bench_schemes(c: &mut Criterion) {
