@@ -98,6 +98,10 @@ pub struct AccuracyArgs {
     /// Folder for the table and the figure.
     #[arg(long, default_value = "out/accuracy")]
     pub out: PathBuf,
+    /// Also print the distances per third-octave band (always written to
+    /// `<stem>-bands.{csv,png}`).
+    #[arg(long)]
+    pub per_band: bool,
 }
 
 /// Loads the scene with the common overrides plus `extra`.
@@ -157,7 +161,7 @@ pub fn run(a: AccuracyArgs) -> Result<(), Error> {
         Some(stem) => preset_run(&a, stem)?,
         None => scene_run(&a)?,
     };
-    write_outputs(&a.out, &study)
+    write_outputs(&a.out, &study, a.per_band)
 }
 
 /// The engine parameter a preset study varies.
@@ -281,7 +285,7 @@ fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, Error> {
 }
 
 /// Writes the CSV, JSON and PNG of a study into `out` and prints the table.
-fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), Error> {
+fn write_outputs(out: &Path, study: &AccuracyStudy, per_band: bool) -> Result<(), Error> {
     super::files::create_dir(out)?;
     let stem = out.join(format!("{}-accuracy-{}", study.scene, study.vary));
     let csv_path = stem.with_extension("csv");
@@ -325,7 +329,8 @@ fn write_outputs(out: &Path, study: &AccuracyStudy) -> Result<(), Error> {
             r.energy_balance_error
         );
     }
-    for p in [&csv_path, &json_path, &png_path] {
+    let [bands_csv, bands_png] = super::accuracy_bands::write_band_outputs(&stem, study, per_band)?;
+    for p in [&csv_path, &json_path, &png_path, &bands_csv, &bands_png] {
         eprintln!("  wrote {}", p.display());
     }
     Ok(())

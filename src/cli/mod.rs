@@ -2,6 +2,7 @@
 //! work is done by the library).
 
 mod accuracy;
+mod accuracy_bands;
 mod auto;
 mod files;
 mod glide;

@@ -14,7 +14,9 @@
 //!
 //! Runs on the CLI thread (allocates, renders).
 
-use super::metrics::{band_level_distance, log_spectral_distance, relative_l2, L2_SECONDS};
+use super::metrics::{
+    band_breakdown, band_level_of, log_spectral_distance, relative_l2, BandComparison, L2_SECONDS,
+};
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
@@ -82,6 +84,9 @@ pub struct AccuracyStudy {
     pub sensitivity: Option<SensitivityFloor>,
     /// One row per value.
     pub rows: Vec<AccuracyRow>,
+    /// Per row (same order), the distances band by band (kept out of the rows so that they
+    /// stay one CSV line each).
+    pub row_bands: Vec<Vec<BandComparison>>,
 }
 
 /// How far the metrics move for an inaudible change of the note itself: the reference against
@@ -101,6 +106,8 @@ pub struct SensitivityFloor {
     pub lsd_db: f64,
     /// Band-level distance (dB), as [`AccuracyRow::band_db`].
     pub band_db: f64,
+    /// The distances band by band.
+    pub bands: Vec<BandComparison>,
 }
 
 /// One setting of a study: its label, its numeric value when it has one, and the scene under it.
@@ -114,16 +121,17 @@ pub struct Variant {
     pub scene: Scene,
 }
 
-/// Compares a render with the reference render.
+/// Compares a render with the reference render: its row and its distances band by band.
 pub fn compare(
     variant: &Variant,
     r: &Rendered,
     report: &RenderReport,
     reference: &Rendered,
     out_rate: u32,
-) -> AccuracyRow {
+) -> (AccuracyRow, Vec<BandComparison>) {
     let n = (L2_SECONDS * out_rate as f64).round() as usize;
-    AccuracyRow {
+    let bands = band_breakdown(&r.out[0], &reference.out[0], f64::from(out_rate));
+    let row = AccuracyRow {
         setting: variant.setting.clone(),
         value: variant.value,
         sim_rate: report.sim_rate,
@@ -133,13 +141,14 @@ pub fn compare(
         wall_seconds: report.wall_seconds,
         l2_50ms: relative_l2(&r.out[0], &reference.out[0], n),
         lsd_db: log_spectral_distance(&r.out[0], &reference.out[0]),
-        band_db: band_level_distance(&r.out[0], &reference.out[0], f64::from(out_rate)),
+        band_db: band_level_of(&bands),
         partial_cents: report.linear_partials_max_cents,
         energy_balance_error: report.energy.max_balance_error,
         energy_drift: report.energy.max_rel_drift,
         max_penetration: report.contact.as_ref().map(|c| c.max_penetration),
         newton_failures: report.contact.as_ref().map(|c| c.newton_failures),
-    }
+    };
+    (row, bands)
 }
 
 /// Renders `reference` and every variant and compares each with the reference; `vary` names
@@ -180,10 +189,10 @@ pub fn study(
         "reference ({reference_description}): {:.2} s wall",
         ref_report.wall_seconds
     ));
-    let mut rows = Vec::new();
+    let (mut rows, mut row_bands) = (Vec::new(), Vec::new());
     for (v, render) in variants.iter().zip(renders) {
         let (r, report) = render?;
-        let row = compare(v, &r, &report, &ref_out, out_rate);
+        let (row, bands) = compare(v, &r, &report, &ref_out, out_rate);
         log(&format!(
             "{} = {}: {:.2} s wall, L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB, partials {} cents, balance error {:.2e}",
             vary,
@@ -196,6 +205,7 @@ pub fn study(
             row.energy_balance_error
         ));
         rows.push(row);
+        row_bands.push(bands);
     }
     Ok(AccuracyStudy {
         scene: reference.name.clone(),
@@ -208,6 +218,7 @@ pub fn study(
         reference_partial_cents: ref_report.linear_partials_max_cents,
         sensitivity: None,
         rows,
+        row_bands,
     })
 }
 

@@ -14,7 +14,9 @@
 //! threads.
 
 use super::accuracy::{AccuracyRow, AccuracyStudy, SensitivityFloor};
-use super::metrics::{band_level_distance, log_spectral_distance, relative_l2, L2_SECONDS};
+use super::metrics::{
+    band_breakdown, band_level_of, log_spectral_distance, relative_l2, L2_SECONDS,
+};
 use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
@@ -214,12 +216,14 @@ pub fn preset_study(
     ));
     let n = (L2_SECONDS * PRESET_HOST_RATE).round() as usize;
     let nudged = nudged_render?;
+    let floor_bands = band_breakdown(&nudged.left, &r.left, PRESET_HOST_RATE);
     let sensitivity = SensitivityFloor {
         parameter: level.info().key.to_string(),
         relative_change: SENSITIVITY_CHANGE,
         l2_50ms: relative_l2(&nudged.left, &r.left, n),
         lsd_db: log_spectral_distance(&nudged.left, &r.left),
-        band_db: band_level_distance(&nudged.left, &r.left, PRESET_HOST_RATE),
+        band_db: band_level_of(&floor_bands),
+        bands: floor_bands,
     };
     log(&format!(
         "floor: the reference with {} {:+e} relative: L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB",
@@ -229,9 +233,10 @@ pub fn preset_study(
         sensitivity.lsd_db,
         sensitivity.band_db
     ));
-    let mut rows = Vec::new();
+    let (mut rows, mut row_bands) = (Vec::new(), Vec::new());
     for (v, render) in variants.iter().zip(renders) {
         let x = render?;
+        let bands = band_breakdown(&x.left, &r.left, PRESET_HOST_RATE);
         let row = AccuracyRow {
             setting: v.setting.clone(),
             value: v.value,
@@ -242,7 +247,7 @@ pub fn preset_study(
             wall_seconds: x.wall_seconds,
             l2_50ms: relative_l2(&x.left, &r.left, n),
             lsd_db: log_spectral_distance(&x.left, &r.left),
-            band_db: band_level_distance(&x.left, &r.left, PRESET_HOST_RATE),
+            band_db: band_level_of(&bands),
             partial_cents: None,
             energy_balance_error: x.energy_balance_error,
             energy_drift: x.energy_drift,
@@ -259,6 +264,7 @@ pub fn preset_study(
             row.energy_balance_error
         ));
         rows.push(row);
+        row_bands.push(bands);
     }
     Ok(AccuracyStudy {
         scene: format!("preset-{name}"),
@@ -271,5 +277,6 @@ pub fn preset_study(
         reference_partial_cents: None,
         sensitivity: Some(sensitivity),
         rows,
+        row_bands,
     })
 }

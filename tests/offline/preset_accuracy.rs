@@ -57,6 +57,16 @@ fn preset_study_measures_differences_and_nothing_else() {
         coarse.lsd_db,
         coarse.band_db
     );
+    // One band breakdown per row, in the rows' order: all zero for the identical variant, and
+    // its band distances combine to the row's (RMS over the bands).
+    assert_eq!(study.row_bands.len(), 2);
+    assert!(study.row_bands[1]
+        .iter()
+        .all(|b| b.band_db == 0.0 && b.bins_db == 0.0));
+    let rms = |b: &[noether::render::metrics::BandComparison]| {
+        (b.iter().map(|x| x.band_db * x.band_db).sum::<f64>() / b.len() as f64).sqrt()
+    };
+    assert!((rms(&study.row_bands[0]) - coarse.band_db).abs() <= 1e-12 * coarse.band_db);
     for r in &study.rows {
         assert!(r.energy_balance_error < 1e-9, "{r:?}");
         assert_eq!((r.n_phi, r.n_psi), (r.value.unwrap() as usize, 6));
