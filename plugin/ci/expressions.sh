@@ -22,21 +22,13 @@ OUT=$3
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$OUT"
 
-python3 - "$ROOT/assets/presets/sitar-b0.toml" "$OUT/ideal-string.state" <<'PY'
-import json, struct, sys, tomllib
-params = tomllib.loads(open(sys.argv[1]).read())["params"]
-params.update(bridge_curvature=1.0, bridge_fraction=0.01, polyphony=2, gain=-12.0, threads=1,
-              release_t60=0.1)
-state = {}
-for key, value in params.items():
-    if isinstance(value, int):
-        state[key] = {"i32": value}
-    elif isinstance(value, float):
-        state[key] = {"f32": value}
-    else:
-        state[key] = {"string": value}
-body = json.dumps({"version": "0.1.0", "params": state, "fields": {}}).encode()
-open(sys.argv[2], "wb").write(struct.pack("<Q", len(body)) + body)
+python3 - "$ROOT/plugin/ci" "$ROOT/assets/presets/sitar-b0.toml" "$OUT/ideal-string.state" <<'PY'
+import sys
+sys.path.insert(0, sys.argv[1])
+from plugin_state import preset_blob
+state, _ = preset_blob(sys.argv[2], bridge_curvature=1.0, bridge_fraction=0.01, polyphony=2,
+                       gain=-12.0, threads=1, release_t60=0.1)
+open(sys.argv[3], "wb").write(state)
 PY
 
 timeout 600 "$HOST" expression "$CLAP" "$OUT/ideal-string.state" --out "$OUT" \

@@ -18,10 +18,12 @@ import pathlib
 import re
 import struct
 import sys
-import tomllib
 
 import numpy as np
 import pedalboard
+
+sys.path.insert(0, str(pathlib.Path(__file__).parent))
+from plugin_state import preset_params, state_body, typed_params  # noqa: E402
 
 RATE = 48_000
 KEYS = [36, 48, 60, 72, 84, 96]
@@ -57,19 +59,10 @@ def with_component_state(raw: bytes, component: bytes) -> bytes:
 
 
 def preset_state(path: pathlib.Path) -> tuple[bytes, int]:
-    params = tomllib.loads(path.read_text())["params"]
-    state = {}
-    for key, value in params.items():
-        if isinstance(value, bool):
-            raise SystemExit(f"{path.name}: params.{key} is a boolean")
-        if isinstance(value, int):
-            state[key] = {"i32": value}
-        elif isinstance(value, float):
-            state[key] = {"f32": value}
-        else:
-            state[key] = {"string": value}
-    body = json.dumps({"version": "0.1.0", "params": state, "fields": {}}).encode()
-    return body, int(params.get("root_key", 60))
+    """The plugin's JSON state of a preset file (no length prefix: JUCE wraps it) and its root
+    key."""
+    params = preset_params(path)
+    return state_body(typed_params(params, path.name)), int(params.get("root_key", 60))
 
 
 def db(x: float) -> float:

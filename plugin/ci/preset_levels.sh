@@ -17,26 +17,15 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$OUT"
 
 # One state blob per preset; prints "stem root_key" lines.
-python3 - "$ROOT/assets/presets" "$OUT" >"$OUT/presets.txt" <<'PY'
-import json, pathlib, struct, sys, tomllib
-src, out = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
+python3 - "$ROOT/plugin/ci" "$ROOT/assets/presets" "$OUT" >"$OUT/presets.txt" <<'PY'
+import pathlib, sys
+sys.path.insert(0, sys.argv[1])
+from plugin_state import preset_blob
+src, out = pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
 for path in sorted(src.glob("*.toml")):
-    params = tomllib.loads(path.read_text())["params"]
-    state = {}
-    for key, value in params.items():
-        if isinstance(value, bool):
-            sys.exit(f"{path.name}: params.{key} = {value}: a boolean, not a number or a name")
-        elif isinstance(value, int):
-            state[key] = {"i32": value}
-        elif isinstance(value, float):
-            state[key] = {"f32": value}
-        elif isinstance(value, str):
-            state[key] = {"string": value}
-        else:
-            sys.exit(f"{path.name}: params.{key} = {value!r}: not a number or a name")
-    body = json.dumps({"version": "0.1.0", "params": state, "fields": {}}).encode()
-    (out / f"{path.stem}.state").write_bytes(struct.pack("<Q", len(body)) + body)
-    print(path.stem, int(params.get("root_key", 60)))
+    state, root = preset_blob(path)
+    (out / f"{path.stem}.state").write_bytes(state)
+    print(path.stem, root)
 PY
 
 KEYS="36 48 60 72 84 96"

@@ -12,26 +12,27 @@ CLAP=$2
 OUT=$3
 mkdir -p "$OUT"
 
-python3 - "$OUT" <<'PY'
-import json, struct, sys
-out = sys.argv[1]
-def blob(name, body, length=None):
+python3 - "$(dirname "$0")" "$OUT" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from plugin_state import blob, state_body
+out = sys.argv[2]
+def write(name, body, length=None):
     with open(f"{out}/{name}.state", "wb") as f:
-        f.write(struct.pack("<Q", len(body) if length is None else length) + body)
-good = json.dumps({"version": "0.1.0", "params": {"size": {"f32": 0.5}, "model": {"i32": 0}},
-                   "fields": {"preset": "\"gong-40N\""}}).encode()
-blob("corrupt", b'{"version": "0.1.0", "params": {"size": {"f32": 0.5}, ###}')
-blob("truncated", good[: len(good) // 2], length=len(good))
-blob("bad-length", good, length=1 << 62)
-blob("empty", b"")
-blob("wrong-types", json.dumps({"version": "0.1.0", "params": {
+        f.write(blob(body, length))
+good = state_body({"size": {"f32": 0.5}, "model": {"i32": 0}}, {"preset": "\"gong-40N\""})
+write("corrupt", b'{"version": "0.1.0", "params": {"size": {"f32": 0.5}, ###}')
+write("truncated", good[: len(good) // 2], length=len(good))
+write("bad-length", good, length=1 << 62)
+write("empty", b"")
+write("wrong-types", state_body({
     "model": {"string": "sitar"}, "modes": {"f32": 100.0}, "gain": {"bool": True},
-    "tension": {"i32": 200}, "polyphony": {"f32": 2.5}}, "fields": {}}).encode())
-blob("old-version", json.dumps({"version": "0.0.1", "params": {"size": {"f32": 0.5}},
-                                "fields": {}}).encode())
-blob("out-of-range", json.dumps({"version": "0.1.0", "params": {
+    "tension": {"i32": 200}, "polyphony": {"f32": 2.5}}))
+write("old-version", json.dumps({"version": "0.0.1", "params": {"size": {"f32": 0.5}},
+                                 "fields": {}}).encode())
+write("out-of-range", state_body({
     "size": {"f32": 100.0}, "polyphony": {"i32": 99}, "sim_rate": {"f32": -5.0},
-    "no_such_parameter": {"f32": 1.0}}, "fields": {}}).encode())
+    "no_such_parameter": {"f32": 1.0}}))
 PY
 
 run() {

@@ -14,18 +14,19 @@ CLAP=$2
 OUT=$3
 mkdir -p "$OUT"
 
-python3 - "$OUT" <<'PY'
-import json, struct, sys
-out = sys.argv[1]
-def blob(name, fields):
-    body = json.dumps({"version": "0.1.0", "params": {}, "fields": fields}).encode()
+python3 - "$(dirname "$0")" "$OUT" <<'PY'
+import json, sys
+sys.path.insert(0, sys.argv[1])
+from plugin_state import blob, state_body
+out = sys.argv[2]
+def write(name, fields):
     with open(f"{out}/{name}.state", "wb") as f:
-        f.write(struct.pack("<Q", len(body)) + body)
+        f.write(blob(state_body(fields=fields)))
 edo19 = "! 19edo.scl\n19-EDO\n19\n" + "".join(f"{1200 * i / 19:.6f}\n" for i in range(1, 19)) + "2/1\n"
 tuning = lambda name, text: json.dumps({"scl": {"name": name, "text": text}, "kbm": None})
-blob("edo19", {"tuning": tuning("19edo.scl", edo19)})
-blob("bad-scale", {"tuning": tuning("broken.scl", "Broken\n3\n100.0\nnot a pitch\n")})
-blob("no-tuning", {})
+write("edo19", {"tuning": tuning("19edo.scl", edo19)})
+write("bad-scale", {"tuning": tuning("broken.scl", "Broken\n3\n100.0\nnot a pitch\n")})
+write("no-tuning", {})
 PY
 
 render() { # NAME STATE KEY
