@@ -18,7 +18,7 @@ use super::hand::Hand;
 use super::lanes::{all_finite, lane_sum};
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
-use super::sav::{SavCoefficients, SavStep};
+use super::sav::SavStep;
 use super::step_join::StepJoin;
 use crate::error::{check_finite, ParamError};
 use free_response::free_response_backward;
@@ -312,32 +312,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 step: self.energy.step,
             });
         }
-        let h2 = self.h * self.h;
-        let fscale = h2 * force / self.rho_h;
-        if let Some(sav) = self.sav.as_mut() {
-            let k = SavCoefficients {
-                inv_a: &self.inv_a,
-                b: &self.b,
-                force_weights: &self.force_weights,
-                u_coef: &self.u_coef,
-                h2_over_rho_h: h2 / self.rho_h,
-            };
-            let rest = if self.rest.on {
-                self.rest.fill_r(&self.q);
-                Some((&self.rest.r[..], &self.rest.c[..]))
-            } else {
-                None
-            };
-            sav.step(
-                &*self.coupling,
-                &k,
-                &self.q,
-                &self.q_prev,
-                rest,
-                fscale,
-                &mut self.q_next,
-            );
-        } else if self.linearly_implicit_step(fscale).is_err() {
+        let fscale = self.h * self.h * force / self.rho_h;
+        if !self.sav_step(fscale) && self.linearly_implicit_step(fscale).is_err() {
             return Err(self.fail());
         }
         if self.hand.c > 0.0 {
@@ -376,97 +352,6 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         if self.track_energy {
             self.update_stored_energy(false);
         }
-        Ok(())
-    }
-
-    /// `q(n+1)` of the conservative (`solver` present) or Störmer-Verlet scheme, and
-    /// `Ĥ(q(n+1), q(n))` into `b_next`. `fscale = h² F(n)/ρh`. Errors when the solve fails.
-    fn linearly_implicit_step(&mut self, fscale: f64) -> Result<(), ()> {
-        let nf = self.q.len();
-        let np = self.b_half.len();
-        // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} r_k(n), r = q(n) + a
-        // (`rest_shape`; r = q on a flat plate), and the shift σ = Gᵀa - c.
-        let curved = self.rest.on;
-        if curved {
-            self.rest.fill_r(&self.q);
-            self.coupling.coupling_matrix_with_scratch(
-                &self.rest.r,
-                &mut self.g,
-                &mut self.kscratch,
-            );
-            self.rest.update_shift(&self.g);
-        } else {
-            self.coupling
-                .coupling_matrix_with_scratch(&self.q, &mut self.g, &mut self.kscratch);
-        }
-        match self.solver.as_mut() {
-            None => {
-                // Störmer-Verlet: a q⁺ = b q - d q⁻ + h² (p + f(q)), f from η(q(n)) only:
-                // h² f_s = Σ_l G_{s,l} (-2 h² D_l) Ĥ(q, q)_l with Ĥ(q, q) = Gᵀ q
-                // (curved: Ĥ(r, r) - c = Gᵀ q + σ).
-                if curved {
-                    self.w.copy_from_slice(&self.rest.shift);
-                } else {
-                    self.w.fill(0.0);
-                }
-                for (grow, &qs) in self.g.chunks_exact(np.max(1)).zip(&self.q) {
-                    for (wl, &gv) in self.w.iter_mut().zip(grow) {
-                        *wl += gv * qs;
-                    }
-                }
-                for (wl, &d) in self.w.iter_mut().zip(&self.dh2) {
-                    *wl *= -2.0 * d;
-                }
-                for s in 0..nf {
-                    let grow = &self.g[s * np..(s + 1) * np];
-                    let fs: f64 = grow.iter().zip(&self.w).map(|(g, w)| g * w).sum();
-                    let rs = self.b[s] * self.q[s] - self.d[s] * self.q_prev[s]
-                        + fscale * self.force_weights[s]
-                        + fs;
-                    self.q_next[s] = rs * self.inv_a[s];
-                }
-            }
-            Some(solver) => {
-                // Conservative: (A + h² G D Gᵀ) q⁺ = b q - d q⁻ + h² p - h² G D Ĥ(q, q⁻)
-                // (curved: Ĥ(q, q⁻) becomes b(n) + σ, `rest_shape`).
-                if curved {
-                    for ((b, &sg), w) in self.b_half.iter().zip(&self.rest.shift).zip(&mut self.w) {
-                        *w = b + sg;
-                    }
-                } else {
-                    self.w.copy_from_slice(&self.b_half);
-                }
-                for s in 0..nf {
-                    let grow = &self.g[s * np..(s + 1) * np];
-                    let nl: f64 = grow
-                        .iter()
-                        .zip(&self.dh2)
-                        .zip(&self.w)
-                        .map(|((g, d), b)| g * d * b)
-                        .sum();
-                    self.r[s] = self.b[s] * self.q[s] - self.d[s] * self.q_prev[s]
-                        + fscale * self.force_weights[s]
-                        - nl;
-                }
-                if solver
-                    .solve(
-                        &self.a,
-                        &self.inv_a,
-                        &self.g,
-                        &self.e_sqrt,
-                        &self.r,
-                        &mut self.q_next,
-                    )
-                    .is_err()
-                {
-                    return Err(());
-                }
-            }
-        }
-        // Decayed modes go to exactly zero instead of through the subnormal range (see
-        // `FLUSH_TO_ZERO_BELOW`); done before Ĥ(q⁺, q) so the energy stays consistent.
-        crate::models::flush_tiny(&mut self.q_next);
-        self.update_b_next();
         Ok(())
     }
 
@@ -600,5 +485,6 @@ mod mallet_step;
 mod rest_shape;
 mod rest_state;
 mod retune;
+mod scheme_step;
 use rest_state::RestShape;
 pub use retune::Unstable;

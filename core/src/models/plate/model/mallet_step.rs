@@ -7,7 +7,6 @@ use crate::error::ParamError;
 use crate::models::plate::coupling::ModalCoupling;
 use crate::models::plate::linalg::dot;
 use crate::models::plate::mallet::Mallet;
-use crate::models::plate::sav::SavCoefficients;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// Launches `mallet` at `speed` (m/s, > 0) towards the plate at the force point (the
@@ -39,32 +38,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         if !mallet.is_active() || self.diverged {
             return self.step(0.0);
         }
-        let h2_over_rho_h = self.h * self.h / self.rho_h;
         // Force-free q*(n+1), then z = ∂q(n+1)/∂F into `f`.
-        if let Some(sav) = self.sav.as_mut() {
-            let k = SavCoefficients {
-                inv_a: &self.inv_a,
-                b: &self.b,
-                force_weights: &self.force_weights,
-                u_coef: &self.u_coef,
-                h2_over_rho_h,
-            };
-            let rest = if self.rest.on {
-                self.rest.fill_r(&self.q);
-                Some((&self.rest.r[..], &self.rest.c[..]))
-            } else {
-                None
-            };
-            sav.step(
-                &*self.coupling,
-                &k,
-                &self.q,
-                &self.q_prev,
-                rest,
-                0.0,
-                &mut self.q_next,
-            );
-        } else if self.linearly_implicit_step(0.0).is_err() {
+        if !self.sav_step(0.0) && self.linearly_implicit_step(0.0).is_err() {
             return Err(self.fail());
         }
         let mut sav_gz = self.unit_response(false);
