@@ -14,9 +14,7 @@
 //!
 //! Runs on the CLI thread (allocates, renders).
 
-use super::metrics::{
-    band_breakdown, band_level_of, log_spectral_distance, relative_l2, BandComparison, L2_SECONDS,
-};
+use super::metrics::{signal_distances, BandComparison};
 use super::offline::Rendered;
 use super::report::RenderReport;
 use super::scene::render_scene;
@@ -129,8 +127,7 @@ pub fn compare(
     reference: &Rendered,
     out_rate: u32,
 ) -> (AccuracyRow, Vec<BandComparison>) {
-    let n = (L2_SECONDS * out_rate as f64).round() as usize;
-    let bands = band_breakdown(&r.out[0], &reference.out[0], f64::from(out_rate));
+    let d = signal_distances(&r.out[0], &reference.out[0], f64::from(out_rate));
     let row = AccuracyRow {
         setting: variant.setting.clone(),
         value: variant.value,
@@ -139,16 +136,16 @@ pub fn compare(
         n_psi: report.n_psi,
         scheme: report.scheme.clone(),
         wall_seconds: report.wall_seconds,
-        l2_50ms: relative_l2(&r.out[0], &reference.out[0], n),
-        lsd_db: log_spectral_distance(&r.out[0], &reference.out[0]),
-        band_db: band_level_of(&bands),
+        l2_50ms: d.l2_50ms,
+        lsd_db: d.lsd_db,
+        band_db: d.band_db,
         partial_cents: report.linear_partials_max_cents,
         energy_balance_error: report.energy.max_balance_error,
         energy_drift: report.energy.max_rel_drift,
         max_penetration: report.contact.as_ref().map(|c| c.max_penetration),
         newton_failures: report.contact.as_ref().map(|c| c.newton_failures),
     };
-    (row, bands)
+    (row, d.bands)
 }
 
 /// Renders `reference` and every variant and compares each with the reference; `vary` names

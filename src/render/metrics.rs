@@ -82,9 +82,22 @@ fn power_frames(x: &[f64]) -> Vec<Vec<f64>> {
 /// Log-spectral distance in dB between `y` and `reference` (see the module doc).
 pub fn log_spectral_distance(y: &[f64], reference: &[f64]) -> f64 {
     let n = y.len().min(reference.len());
-    let reference = power_frames(&reference[..n]);
-    let eps = vec![bin_floor(&reference); LSD_WINDOW / 2 + 1];
-    distance(&power_frames(&y[..n]), &reference, &eps)
+    lsd_of_frames(&power_frames(&y[..n]), &power_frames(&reference[..n]))
+}
+
+/// The log-spectral distance (dB) of the frames `a` of a render from the frames `b` of its
+/// reference: the RMS over frames and bins of [`level_difference`] with the bin floor.
+fn lsd_of_frames(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
+    let eps = bin_floor(b);
+    let (mut sum, mut count) = (0.0, 0usize);
+    for (fa, fb) in a.iter().zip(b) {
+        for (&pa, &pb) in fa.iter().zip(fb) {
+            let d = level_difference(pa, pb, eps);
+            sum += d * d;
+            count += 1;
+        }
+    }
+    (sum / count.max(1) as f64).sqrt()
 }
 
 /// The floor `ε` of one bin: [`LSD_FLOOR`] times the largest bin power of the reference's
@@ -94,18 +107,9 @@ fn bin_floor(reference: &[Vec<f64>]) -> f64 {
     (LSD_FLOOR * peak).max(f64::MIN_POSITIVE)
 }
 
-/// RMS over frames and cells (bins or bands) `c` of `10 log10((a + ε_c) / (b + ε_c))` in dB,
-/// `b` the reference.
-fn distance(a: &[Vec<f64>], b: &[Vec<f64>], eps: &[f64]) -> f64 {
-    let (mut sum, mut count) = (0.0, 0usize);
-    for (fa, fb) in a.iter().zip(b) {
-        for ((pa, pb), e) in fa.iter().zip(fb).zip(eps) {
-            let d = 10.0 * ((pa + e) / (pb + e)).log10();
-            sum += d * d;
-            count += 1;
-        }
-    }
-    (sum / count.max(1) as f64).sqrt()
+/// `10 log10((p + ε) / (p_ref + ε))` in dB: one cell's (bin's or band's) level difference.
+fn level_difference(p: f64, p_ref: f64, eps: f64) -> f64 {
+    10.0 * ((p + eps) / (p_ref + eps)).log10()
 }
 
 /// The third-octave bands of an STFT of `LSD_WINDOW` samples at `rate` Hz: for each band that
@@ -156,47 +160,79 @@ pub struct BandComparison {
 /// frames, bands and floors as [`band_level_distance`] and [`log_spectral_distance`]).
 pub fn band_breakdown(y: &[f64], reference: &[f64], rate: f64) -> Vec<BandComparison> {
     let n = y.len().min(reference.len());
-    let (a, b) = (power_frames(&y[..n]), power_frames(&reference[..n]));
+    breakdown_of_frames(&power_frames(&y[..n]), &power_frames(&reference[..n]), rate)
+}
+
+/// [`band_breakdown`] of the frames `a` of a render against the frames `b` of its reference
+/// (as many frames each).
+fn breakdown_of_frames(a: &[Vec<f64>], b: &[Vec<f64>], rate: f64) -> Vec<BandComparison> {
+    let frames = b.len().max(1) as f64;
     let bands = third_octave_bands(rate);
-    let floor = bin_floor(&b);
+    let floor = bin_floor(b);
     let mean_power: Vec<f64> = bands
         .iter()
         .map(|r| {
             b.iter()
                 .map(|f| f[r.clone()].iter().sum::<f64>())
                 .sum::<f64>()
-                / b.len() as f64
+                / frames
         })
         .collect();
     let loudest = mean_power.iter().fold(f64::MIN_POSITIVE, |m, &p| m.max(p));
-    let db = |pa: f64, pb: f64, e: f64| 10.0 * ((pa + e) / (pb + e)).log10();
     bands
         .iter()
         .zip(&mean_power)
         .map(|(r, &power)| {
             let e = floor * r.len() as f64;
             let (mut band, mut bins, mut power_a) = (0.0, 0.0, 0.0);
-            for (fa, fb) in a.iter().zip(&b) {
+            for (fa, fb) in a.iter().zip(b) {
                 let pa: f64 = fa[r.clone()].iter().sum();
                 power_a += pa;
-                let d = db(pa, fb[r.clone()].iter().sum(), e);
+                let d = level_difference(pa, fb[r.clone()].iter().sum(), e);
                 band += d * d;
                 for (&pa, &pb) in fa[r.clone()].iter().zip(&fb[r.clone()]) {
-                    let d = db(pa, pb, floor);
+                    let d = level_difference(pa, pb, floor);
                     bins += d * d;
                 }
             }
-            let frames = a.len().min(b.len()).max(1) as f64;
             BandComparison {
                 centre_hz: 1000.0 * 2f64.powf(band_index(r.start, rate) as f64 / 3.0),
                 bins: r.len(),
                 reference_level_db: 10.0 * (power.max(f64::MIN_POSITIVE) / loudest).log10(),
                 band_db: (band / frames).sqrt(),
                 bins_db: (bins / (frames * r.len() as f64)).sqrt(),
-                mean_diff_db: db(power_a / a.len().max(1) as f64, power, e),
+                mean_diff_db: level_difference(power_a / frames, power, e),
             }
         })
         .collect()
+}
+
+/// Every distance a study reports between a render and its reference (both at `rate` Hz),
+/// from one STFT of each.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SignalDistances {
+    /// [`relative_l2`] over the first [`L2_SECONDS`].
+    pub l2_50ms: f64,
+    /// [`log_spectral_distance`] (dB).
+    pub lsd_db: f64,
+    /// [`band_level_distance`] (dB).
+    pub band_db: f64,
+    /// [`band_breakdown`].
+    pub bands: Vec<BandComparison>,
+}
+
+/// The [`SignalDistances`] of `y` from `reference`, both at `rate` Hz: the same values as the
+/// four functions, with the frames of each signal computed once.
+pub fn signal_distances(y: &[f64], reference: &[f64], rate: f64) -> SignalDistances {
+    let n = y.len().min(reference.len());
+    let (a, b) = (power_frames(&y[..n]), power_frames(&reference[..n]));
+    let bands = breakdown_of_frames(&a, &b, rate);
+    SignalDistances {
+        l2_50ms: relative_l2(y, reference, (L2_SECONDS * rate).round() as usize),
+        lsd_db: lsd_of_frames(&a, &b),
+        band_db: band_level_of(&bands),
+        bands,
+    }
 }
 
 /// The third-octave band `k = round(3 log2(f / 1 kHz))` of STFT bin `j ≥ 1` at `rate` Hz.
@@ -405,5 +441,25 @@ mod tests {
         assert!(bands
             .iter()
             .all(|b| b.band_db == 0.0 && b.bins_db == 0.0 && b.mean_diff_db == 0.0));
+    }
+
+    /// [`signal_distances`] gives exactly (bit for bit) what the four separate functions give:
+    /// it only shares their frames.
+    #[test]
+    fn signal_distances_equal_the_separate_metrics() {
+        let rate = 48_000.0;
+        let x = noise(0x9E37_79B9_7F4A_7C15, 30_000);
+        let z: Vec<f64> = noise(0xD1B5_4A32_D192_ED03, 30_000)
+            .iter()
+            .zip(&x)
+            .map(|(n, s)| s + 0.1 * n)
+            .collect();
+        let d = signal_distances(&z, &x, rate);
+        let n = (L2_SECONDS * rate).round() as usize;
+        assert_eq!(d.l2_50ms, relative_l2(&z, &x, n));
+        assert_eq!(d.lsd_db, log_spectral_distance(&z, &x));
+        assert_eq!(d.band_db, band_level_distance(&z, &x, rate));
+        assert_eq!(d.bands, band_breakdown(&z, &x, rate));
+        assert!(d.l2_50ms > 0.0 && d.lsd_db > 0.0 && d.band_db > 0.0);
     }
 }

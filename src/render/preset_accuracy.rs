@@ -14,9 +14,7 @@
 //! threads.
 
 use super::accuracy::{AccuracyRow, AccuracyStudy, SensitivityFloor};
-use super::metrics::{
-    band_breakdown, band_level_of, log_spectral_distance, relative_l2, L2_SECONDS,
-};
+use super::metrics::signal_distances;
 use super::preset_engine::{start_engine, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{ParamId, Preset, PresetValue};
 use crate::error::{Error, ParamError};
@@ -214,16 +212,15 @@ pub fn preset_study(
         "reference ({reference_description}): {:.2} s wall",
         r.wall_seconds
     ));
-    let n = (L2_SECONDS * PRESET_HOST_RATE).round() as usize;
     let nudged = nudged_render?;
-    let floor_bands = band_breakdown(&nudged.left, &r.left, PRESET_HOST_RATE);
+    let floor = signal_distances(&nudged.left, &r.left, PRESET_HOST_RATE);
     let sensitivity = SensitivityFloor {
         parameter: level.info().key.to_string(),
         relative_change: SENSITIVITY_CHANGE,
-        l2_50ms: relative_l2(&nudged.left, &r.left, n),
-        lsd_db: log_spectral_distance(&nudged.left, &r.left),
-        band_db: band_level_of(&floor_bands),
-        bands: floor_bands,
+        l2_50ms: floor.l2_50ms,
+        lsd_db: floor.lsd_db,
+        band_db: floor.band_db,
+        bands: floor.bands,
     };
     log(&format!(
         "floor: the reference with {} {:+e} relative: L2(50 ms) {:.3e}, LSD {:.3} dB, bands {:.3} dB",
@@ -236,7 +233,7 @@ pub fn preset_study(
     let (mut rows, mut row_bands) = (Vec::new(), Vec::new());
     for (v, render) in variants.iter().zip(renders) {
         let x = render?;
-        let bands = band_breakdown(&x.left, &r.left, PRESET_HOST_RATE);
+        let d = signal_distances(&x.left, &r.left, PRESET_HOST_RATE);
         let row = AccuracyRow {
             setting: v.setting.clone(),
             value: v.value,
@@ -245,9 +242,9 @@ pub fn preset_study(
             n_psi: x.in_plane_modes,
             scheme: x.scheme.clone(),
             wall_seconds: x.wall_seconds,
-            l2_50ms: relative_l2(&x.left, &r.left, n),
-            lsd_db: log_spectral_distance(&x.left, &r.left),
-            band_db: band_level_of(&bands),
+            l2_50ms: d.l2_50ms,
+            lsd_db: d.lsd_db,
+            band_db: d.band_db,
             partial_cents: None,
             energy_balance_error: x.energy_balance_error,
             energy_drift: x.energy_drift,
@@ -264,7 +261,7 @@ pub fn preset_study(
             row.energy_balance_error
         ));
         rows.push(row);
-        row_bands.push(bands);
+        row_bands.push(d.bands);
     }
     Ok(AccuracyStudy {
         scene: format!("preset-{name}"),
