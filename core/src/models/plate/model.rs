@@ -313,7 +313,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             });
         }
         let fscale = self.h * self.h * force / self.rho_h;
-        if !self.sav_step(fscale) && self.linearly_implicit_step(fscale).is_err() {
+        if self.scheme_step(fscale).is_err() {
             return Err(self.fail());
         }
         if self.hand.c > 0.0 {

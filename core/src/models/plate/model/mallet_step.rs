@@ -39,7 +39,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             return self.step(0.0);
         }
         // Force-free q*(n+1), then z = ∂q(n+1)/∂F into `f`.
-        if !self.sav_step(0.0) && self.linearly_implicit_step(0.0).is_err() {
+        if self.scheme_step(0.0).is_err() {
             return Err(self.fail());
         }
         let mut sav_gz = self.unit_response(false);

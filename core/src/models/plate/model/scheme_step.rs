@@ -1,17 +1,27 @@
 //! The scheme's own part of a step of [`PlateModel`]: `q(n+1)` from `q(n)`, `q(n-1)` and the
 //! scaled force, by the SAV scheme's rank-one update ([`crate::models::plate::sav`]) or the
 //! conservative / Störmer-Verlet linearly implicit solve. [`PlateModel::step`] and
-//! [`PlateModel::step_with_mallet`] share them. Audio thread: no allocation.
+//! [`PlateModel::step_with_mallet`] share [`PlateModel::scheme_step`]. Audio thread: no allocation.
 
 use super::PlateModel;
 use crate::models::plate::coupling::ModalCoupling;
 use crate::models::plate::sav::SavCoefficients;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
+    /// `q(n+1)` into `q_next` by the model's scheme, for `fscale = h² F(n) / ρh`. Errors when
+    /// the conservative scheme's linear solve fails. Audio thread: no allocation.
+    pub(super) fn scheme_step(&mut self, fscale: f64) -> Result<(), ()> {
+        if self.sav_step(fscale) {
+            Ok(())
+        } else {
+            self.linearly_implicit_step(fscale)
+        }
+    }
+
     /// The SAV scheme's `q(n+1)` into `q_next` for `fscale = h² F(n) / ρh`, when the model
     /// runs that scheme (returns `false`, doing nothing, otherwise). Audio thread: no
     /// allocation.
-    pub(super) fn sav_step(&mut self, fscale: f64) -> bool {
+    fn sav_step(&mut self, fscale: f64) -> bool {
         let Some(sav) = self.sav.as_mut() else {
             return false;
         };
@@ -42,7 +52,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
 
     /// `q(n+1)` of the conservative (`solver` present) or Störmer-Verlet scheme, and
     /// `Ĥ(q(n+1), q(n))` into `b_next`. `fscale = h² F(n)/ρh`. Errors when the solve fails.
-    pub(super) fn linearly_implicit_step(&mut self, fscale: f64) -> Result<(), ()> {
+    fn linearly_implicit_step(&mut self, fscale: f64) -> Result<(), ()> {
         let nf = self.q.len();
         let np = self.b_half.len();
         // One pass over the tensor per step: G_{s,l} = Σ_k Ĥ^l_{s,k} r_k(n), r = q(n) + a
