@@ -289,7 +289,7 @@ fn write_outputs(out: &Path, study: &AccuracyStudy, per_band: bool) -> Result<()
     super::files::create_dir(out)?;
     let stem = out.join(format!("{}-accuracy-{}", study.scene, study.vary));
     let csv_path = stem.with_extension("csv");
-    write_csv(&csv_path, study)?;
+    super::files::write_csv(&csv_path, &study.rows)?;
     let json_path = stem.with_extension("json");
     let json = serde_json::to_string_pretty(study)?;
     super::files::write_text(&json_path, &(json + "\n"))?;
@@ -336,21 +336,6 @@ fn write_outputs(out: &Path, study: &AccuracyStudy, per_band: bool) -> Result<()
     Ok(())
 }
 
-fn write_csv(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
-    let ctx = |source: csv::Error| Error::Csv {
-        path: path.to_path_buf(),
-        source,
-    };
-    let mut w = csv::Writer::from_path(path).map_err(ctx)?;
-    for row in &study.rows {
-        w.serialize(row).map_err(ctx)?;
-    }
-    w.flush().map_err(|source| Error::Write {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
 fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
     use noether::render::accuracy::{AccuracyRow, SensitivityFloor};
     // The note's floor (preset studies) as a level line across the cost panels' wall range.
@@ -363,9 +348,8 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
                       floor: fn(&SensitivityFloor) -> f64| {
         let mut p = Panel::new(title, "wall time (s)", ylabel).scales(Scale::Log10, Scale::Log10);
         if let Some(f) = study.sensitivity.as_ref().filter(|_| w1 > 0.0) {
-            let label = format!("floor: {} {:+e}", f.parameter, f.relative_change);
             p = p.push(Series::line(
-                label,
+                f.label(),
                 vec![0.8 * w0, 1.25 * w1],
                 vec![floor(f); 2],
             ));

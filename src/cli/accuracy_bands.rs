@@ -32,10 +32,7 @@ fn labelled(study: &AccuracyStudy) -> Vec<(String, &[BandComparison])> {
         .map(|(r, b)| (format!("{} = {}", study.vary, r.setting), b.as_slice()))
         .collect();
     if let Some(f) = &study.sensitivity {
-        out.push((
-            format!("floor: {} {:+e}", f.parameter, f.relative_change),
-            f.bands.as_slice(),
-        ));
+        out.push((f.label(), f.bands.as_slice()));
     }
     out
 }
@@ -53,29 +50,18 @@ pub(super) fn write_band_outputs(
     let csv_path = stem.with_file_name(format!("{name}-bands.csv"));
     let png_path = stem.with_file_name(format!("{name}-bands.png"));
     let sets = labelled(study);
-    let ctx = |source: csv::Error| Error::Csv {
-        path: csv_path.clone(),
-        source,
-    };
-    let mut w = csv::Writer::from_path(&csv_path).map_err(ctx)?;
-    for (label, bands) in &sets {
-        for band in *bands {
-            w.serialize(BandLine {
-                setting: label,
-                centre_hz: band.centre_hz,
-                bins: band.bins,
-                reference_level_db: band.reference_level_db,
-                band_db: band.band_db,
-                bins_db: band.bins_db,
-                mean_diff_db: band.mean_diff_db,
-            })
-            .map_err(ctx)?;
-        }
-    }
-    w.flush().map_err(|source| Error::Write {
-        path: csv_path.clone(),
-        source,
-    })?;
+    let lines = sets.iter().flat_map(|(label, bands)| {
+        bands.iter().map(move |band| BandLine {
+            setting: label,
+            centre_hz: band.centre_hz,
+            bins: band.bins,
+            reference_level_db: band.reference_level_db,
+            band_db: band.band_db,
+            bins_db: band.bins_db,
+            mean_diff_db: band.mean_diff_db,
+        })
+    });
+    super::files::write_csv(&csv_path, lines)?;
     let panel = |title: &str, ylabel: &str, pick: fn(&BandComparison) -> f64| {
         let mut p =
             Panel::new(title, "band centre (Hz)", ylabel).scales(Scale::Log10, Scale::Linear);

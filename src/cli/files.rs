@@ -22,6 +22,25 @@ pub(super) fn write_text(path: &Path, text: &str) -> Result<(), Error> {
     })
 }
 
+/// Writes `rows` as a CSV file with a header line (the fields of the rows' type).
+pub(super) fn write_csv<T: serde::Serialize>(
+    path: &Path,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<(), Error> {
+    let ctx = |source: csv::Error| Error::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut w = csv::Writer::from_path(path).map_err(ctx)?;
+    for row in rows {
+        w.serialize(row).map_err(ctx)?;
+    }
+    w.flush().map_err(|source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
 /// Where a render writes its files, and whether it shows progress: the arguments `noether
 /// render` and `noether play` share.
 #[derive(Debug, Args)]

@@ -108,6 +108,13 @@ pub struct SensitivityFloor {
     pub bands: Vec<BandComparison>,
 }
 
+impl SensitivityFloor {
+    /// How tables and figures name the floor: `floor: <parameter> <relative change>`.
+    pub fn label(&self) -> String {
+        format!("floor: {} {:+e}", self.parameter, self.relative_change)
+    }
+}
+
 /// One setting of a study: its label, its numeric value when it has one, and the scene under it.
 #[derive(Debug, Clone)]
 pub struct Variant {
