@@ -11,15 +11,11 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use noether::modal::{default_cache_dir, CircularEdge, CircularPlateSpec, PlateModes};
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
-use noether::scene::Scene;
 use std::hint::black_box;
-use std::path::Path;
 
-/// The lecture's gong scene the voices start from.
-const SEED_GONG: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/assets/scenes/seed-gong-40N.toml"
-);
+#[path = "common/seed_gong.rs"]
+mod seed_gong;
+use seed_gong::seed_gong_voice;
 
 const STEPS: usize = 32;
 
@@ -33,8 +29,7 @@ fn voice(n_phi: usize, n_psi: usize, scheme: &str) -> PlateVoice {
         "plate.excitation.duration=0.001".into(),
         "plate.excitation.peak_force=80".into(),
     ];
-    let scene = Scene::load(Path::new(SEED_GONG), &sets).unwrap();
-    PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
+    seed_gong_voice(&sets)
 }
 
 /// The comma-separated list in `var`, or `default`.

@@ -16,16 +16,12 @@ use noether::modal::{
 };
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
-use noether::scene::Scene;
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Duration;
 
-/// The lecture's gong scene the voices start from.
-const SEED_GONG: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/assets/scenes/seed-gong-40N.toml"
-);
+#[path = "common/seed_gong.rs"]
+mod seed_gong;
+use seed_gong::seed_gong_voice;
 
 /// Steps per iteration of the whole-step bench.
 const STEPS: usize = 32;
@@ -79,8 +75,7 @@ fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str) -> PlateVoice 
         format!("plate.symmetry={symmetry}"),
         format!("plate.tensor_storage={storage}"),
     ];
-    let scene = Scene::load(Path::new(SEED_GONG), &sets).unwrap();
-    PlateVoice::build(scene.plate.as_ref().unwrap()).unwrap()
+    seed_gong_voice(&sets)
 }
 
 /// The fused SAV kernel alone, per storage.

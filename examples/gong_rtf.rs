@@ -25,14 +25,10 @@ use noether::modal::CouplingTensor;
 
 use noether::models::plate::voice::PlateVoice;
 use noether::render::source::RenderSource;
-use noether::scene::Scene;
-use std::path::Path;
 
-/// The lecture's gong scene the voices start from.
-const SEED_GONG: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/assets/scenes/seed-gong-40N.toml"
-);
+#[path = "../benches/common/seed_gong.rs"]
+mod seed_gong;
+use seed_gong::seed_gong_voice;
 
 /// The lecture's gong (`assets/scenes/seed-gong-40N.toml`: 10 ms strike at 40 N) with
 /// `n_phi × n_psi` modes under `scheme` at `fs` Hz, its basis and tensor storage from the
@@ -48,8 +44,7 @@ fn voice(scheme: &str, fs: f64, n_phi: usize, n_psi: usize) -> PlateVoice {
         format!("plate.symmetry={symmetry}"),
         format!("plate.tensor_storage={storage}"),
     ];
-    let scene = Scene::load(Path::new(SEED_GONG), &sets).expect("scene");
-    PlateVoice::build(scene.plate.as_ref().expect("plate")).expect("voice")
+    seed_gong_voice(&sets)
 }
 
 /// CPU time consumed by the calling thread so far (`noether::clock`).
