@@ -8,6 +8,7 @@ use super::step_join::SpinJoin;
 use crate::analysis::dispersion::max_cents_error;
 use crate::error::{Error, ParamError};
 use crate::models::plate::voice::PlateVoice;
+use crate::models::sav_relaxation::SavRelaxation;
 use crate::models::string::StiffString;
 use crate::scene::{Scene, StringSpec};
 
@@ -46,6 +47,10 @@ pub fn build_string(scene: &StringSpec) -> Result<StiffString, ParamError> {
     };
     let mut s = StiffString::new(&scene.config()).map_err(scoped)?;
     s.set_contact_scheme(scene.scheme()?);
+    s.set_sav_relaxation(SavRelaxation::from_scene(
+        scene.sav_relaxation,
+        s.params().h(),
+    ));
     if let Some(p) = scene.pluck() {
         s.pluck(&p).map_err(scoped)?;
     }

@@ -89,6 +89,7 @@ impl PlateCase {
             symmetry: Default::default(),
             sim_rate: self.fs,
             scheme: self.scheme,
+            sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
             tensor_storage: Default::default(),
             damping: self.damping,
             excitation: Excitation::Strike {

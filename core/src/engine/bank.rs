@@ -156,6 +156,7 @@ impl Bank {
                     exponent: v.get(ParamId::ContactAlpha) as f64,
                 },
                 contact_scheme: "newton".into(),
+                sav_relaxation: crate::models::string::spec::default_contact_relaxation(),
                 excitation: StringExcitation::Pluck {
                     position: v.get(ParamId::PluckPosition) as f64 * length,
                     amplitude: v.get(ParamId::PluckAmplitude) as f64,

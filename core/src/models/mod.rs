@@ -6,6 +6,7 @@
 
 pub mod plate;
 pub mod ranges;
+pub mod sav_relaxation;
 pub mod source;
 pub mod string;
 

@@ -88,6 +88,9 @@ pub const PLATE_IN_PLANE_MODES: Range = Range::new(0.0, 4000.0, "").playable(0.0
 /// The instrument's plate band limit: the highest transverse mode frequency a note keeps.
 pub const PLATE_BAND_LIMIT: Range = Range::new(500.0, 20_000.0, "Hz").playable(500.0, 20_000.0);
 /// A plate's simulation rate.
+/// Time constant of the SAV scheme's relaxation of `ψ` toward `√(2U(q))`
+/// (`plate.sav_relaxation`, [`crate::models::sav_relaxation`]); 0 switches it off.
+pub const SAV_RELAXATION_TIME: Range = Range::new(0.0, 10.0, "s");
 pub const PLATE_SIM_RATE: Range = Range::new(1e3, 4e6, "Hz").playable(8000.0, 400_000.0);
 
 // ---------------------------------------------------------------- strings
@@ -130,6 +133,7 @@ mod tests {
         ("PLATE_MODES", PLATE_MODES),
         ("PLATE_IN_PLANE_MODES", PLATE_IN_PLANE_MODES),
         ("PLATE_SIM_RATE", PLATE_SIM_RATE),
+        ("SAV_RELAXATION_TIME", SAV_RELAXATION_TIME),
         ("PLATE_BAND_LIMIT", PLATE_BAND_LIMIT),
         ("STRING_LENGTH", STRING_LENGTH),
         ("STRING_TENSION", STRING_TENSION),

@@ -59,6 +59,7 @@ pub fn plate_spec(
         symmetry: Symmetry::Full,
         sim_rate: 48_000.0,
         scheme,
+        sav_relaxation: noether_core::models::plate::spec::default_sav_relaxation(),
         tensor_storage: Default::default(),
         damping,
         excitation,

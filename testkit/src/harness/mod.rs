@@ -280,8 +280,10 @@ pub fn check(case: &Case) -> Outcome {
         o.nonlinear_share,
         x.nonlinear_share
     );
+    // A SAV relaxation gives back what it removed to the round-off of its auxiliary energy
+    // (`models::sav_relaxation`), so a lossless run may end a few ulps below 0.
     assert!(
-        o.dissipated_share >= x.dissipated_share,
+        o.dissipated_share >= x.dissipated_share - 1e-12,
         "{name}: dissipated share {:.3e} < {}",
         o.dissipated_share,
         x.dissipated_share

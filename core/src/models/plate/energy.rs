@@ -26,6 +26,10 @@ pub struct PlateEnergy {
     /// The part of [`Self::dissipated`] removed by the player's hand (a point damper),
     /// `Σ_m -h F_h(m) δ_{t.} w_h(m) = Σ_m h c (δ_{t.} w_h(m))²` (J, ≥ 0; 0 without a hand).
     pub hand_dissipated: f64,
+    /// The part of [`Self::dissipated`] removed by the SAV scheme's relaxation of `ψ` toward
+    /// `√(2U(q))` ([`crate::models::sav_relaxation`]; J, negative where its budget returned some
+    /// of the step's losses; 0 for the other schemes).
+    pub relaxed: f64,
     /// Cumulative work done by the external force since the initial state,
     /// `Σ_m h F(m) Σ_s Φ_s δ_{t.} q_s(m)` (J).
     pub work: f64,

@@ -21,6 +21,7 @@ use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::SavStep;
 use super::step_join::StepJoin;
 use crate::error::{check_finite, ParamError};
+use crate::models::sav_relaxation::SavRelaxation;
 use free_response::free_response_backward;
 
 /// The state became non-finite (or the linear system lost positive definiteness, which only
@@ -112,6 +113,9 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     /// The static rest shape (flat unless [`Self::set_rest_shape`] set one).
     rest: RestShape,
     energy: PlateEnergy,
+    /// Physical energy dissipated in the last step (J; damping and hand): the SAV
+    /// relaxation's budget ([`crate::models::sav_relaxation`]).
+    step_dissipated: f64,
     track_energy: bool,
     diverged: bool,
 }
@@ -210,10 +214,15 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             w: vec![0.0; np],
             kscratch: vec![0.0; coupling.kernel_scratch_len()],
             solver,
-            sav: (params.scheme == PlateScheme::SavExact).then(|| SavStep::new(nf, np)),
+            sav: (params.scheme == PlateScheme::SavExact).then(|| {
+                let mut sav = SavStep::new(nf, np);
+                sav.relaxation = SavRelaxation::default_at(h);
+                sav
+            }),
             hand: Hand::new(nf),
             rest: RestShape::flat(nf, np),
             energy: PlateEnergy::default(),
+            step_dissipated: 0.0,
             track_energy: true,
             diverged: false,
             coupling,
@@ -228,11 +237,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.b_half.fill(0.0);
         if let Some(sav) = self.sav.as_mut() {
-            sav.psi = 0.0;
+            sav.restart(0.0);
         }
         self.outputs.fill(0.0);
         self.hand.force = 0.0;
         self.energy = PlateEnergy::default();
+        self.step_dissipated = 0.0;
         self.diverged = false;
     }
 
@@ -261,7 +271,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         if let Some(sav) = self.sav.as_mut() {
             // ψ(-½) = √(2u) with the conservative schemes' half-step u = Σ u_l Ĥ(q0, q(-1))_l²
             // (an O(h²)-consistent start; the same initial energy as those schemes).
-            sav.psi = SavStep::psi_from(&self.u_coef, &self.b_half);
+            sav.restart(SavStep::psi_from(&self.u_coef, &self.b_half));
         }
         if self.track_energy {
             self.update_stored_energy(true);
@@ -294,6 +304,22 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// that owns the model.
     pub fn offers_step_halves(&self) -> bool {
         self.sav.as_ref().is_some_and(|s| s.offers_halves())
+    }
+
+    /// Sets how the SAV scheme's `ψ` is relaxed toward `√(2U(q))` each step
+    /// ([`crate::models::sav_relaxation`]; default [`SavRelaxation::default_at`] the model's
+    /// step; [`SavRelaxation::OFF`] gives the plain scheme). No effect on the other schemes.
+    /// The relaxation's budget is the last step's dissipation, known only while the energy is
+    /// tracked (otherwise it only removes energy). Any thread that owns the model.
+    pub fn set_sav_relaxation(&mut self, relaxation: SavRelaxation) {
+        if let Some(sav) = self.sav.as_mut() {
+            sav.relaxation = relaxation;
+        }
+    }
+
+    /// The SAV relaxation in use (`None` for the other schemes).
+    pub fn sav_relaxation(&self) -> Option<SavRelaxation> {
+        self.sav.as_ref().map(|s| s.relaxation)
     }
 
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;

@@ -47,6 +47,37 @@
 //! unconditional is accuracy: `ψ(n-½)` drifts from `√(2U(q))` by `O(h²)`, and the drift grows
 //! with the nonlinearity's stiffness relative to `fs` (measured in `tests/plates/plate_sav.rs`).
 //!
+//! # Relaxation
+//! Before each step `ψ(n-½)` is relaxed toward a second-order estimate `ψ*` of `√(2U)` at the
+//! same half step ([`crate::models::sav_relaxation`]: the energy-constrained relaxation, its
+//! allowance and its accounting). The estimate costs two `N_Φ` dot products and no tensor
+//! pass. With `e_l(x, y) = Ĥ(x + a, y + a)_l - c_l` (`a` the rest shape, 0 flat; `U(q) =
+//! Σ_l u_l e_l(q, q)²`), the gradient the step computes anyway gives the *mixed* energies
+//!
+//! ```text
+//! U_→(n) = Σ_l u_l e_l(q(n), q(n)) e_l(q(n), q(n-1))         = ∇U(q(n))·r(n-1)/4 - Σ_l u_l e_l(n,n) c_l,
+//! U_←(n) = Σ_l u_l e_l(q(n-1), q(n-1)) e_l(q(n-1), q(n))     = ∇U(q(n-1))·r(n)/4 - Σ_l u_l e_l(n-1,n-1) c_l,
+//! ```
+//!
+//! (`r = q + a`; `∇U(q)·r = 4 Σ_l u_l e_l(q,q) Ĥ(r, ·)`), and `ψ* = √2 (U_→ U_←)^{1/4}`: the
+//! geometric mean of the two, a symmetric `O(h²)` estimate of `U(q(n-½))`. Why this form and
+//! not the mean of `√(2U(q(n-1)))` and `√(2U(q(n)))`: for one mode (`U = Γq⁴/4`) the scheme's
+//! own `ψ` telescopes to `√(Γ/2) q(n) q(n-1)` exactly (`g = √(2Γ) q`, so
+//! `ψ(n+½) - ψ(n-½) = √(Γ/2)(q(n)q(n+1) - q(n)q(n-1))`), and `ψ*` is exactly that: the
+//! relaxation leaves a drift-free `ψ` alone, and moves only what drifts (the cross-mode
+//! terms). The arithmetic mean differs from the scheme's `ψ` by its own `O(h²)` and was
+//! measured to pull the single-mode Duffing backbone 4× off (`tests/plates/plate_scheme.rs`).
+//! Where either mixed energy is negative, `q(n)` and `q(n-1)` lie on opposite sides of rest
+//! (in the in-plane products that matter): the midpoint's energy is then 0 to the same order,
+//! and so is the target. That case is not rare: the SAV scheme has a parasitic undamped orbit
+//! at the Nyquist rate, `q(n) = -q(n-1)`, in which `ψ` does not change (`q(n+1) - q(n-1) = 0`),
+//! the centred damping `c̃ δ_{t.}q` vanishes, and `ψ g` is the stiffness that puts the pattern
+//! at `ωh = π`; a 16 s performance left a gong voice in it, silent (above the heard band) but
+//! never ending. With the target 0 there `ψ` decays and the orbit with it. No relaxation on the
+//! first step after a new state or a retune (the previous gradient is unknown or stale). The energy the relaxation removes is reported per step
+//! ([`SavStep::take_relaxed`]) and counted as dissipation by the model, so the power balance
+//! still closes to round-off.
+//!
 //! Threads: built with the model on a worker thread; [`SavStep::step`] runs on the audio thread
 //! without allocating.
 
@@ -54,6 +85,7 @@ use super::coupling::ModalCoupling;
 use super::half_step::{HalfJob, StepBoard};
 use super::lanes::{lane_sum, lane_sums};
 use super::step_join::StepJoin;
+use crate::models::sav_relaxation::{relax, RelaxationLedger, SavRelaxation};
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -62,6 +94,20 @@ use std::time::Instant;
 pub(crate) struct SavStep {
     /// `ψ(n-½)` (√J).
     pub psi: f64,
+    /// How `ψ` is pulled back to `√(2U)` before each step (module doc, "Relaxation").
+    pub relaxation: SavRelaxation,
+    /// `√(2U(q(n-1)))` from the previous step's gradient pass (√J); NaN when unknown (after
+    /// a reset, a new state or a retune: `g` then does not hold the previous step's gradient
+    /// and the step is not relaxed).
+    psi_q_prev: f64,
+    /// `Σ_l u_l e_l c_l` of the previous step (J; `e_l = Ĥ(r,r)_l - c_l` of a curved plate,
+    /// 0 flat): the constant part of its mixed energy (module doc, "Relaxation").
+    shift_prev: f64,
+    /// Energy removed by the relaxation in the last step (J; negative when the budget returned
+    /// some), until [`Self::take_relaxed`].
+    relaxed: f64,
+    /// What the relaxation may give back ([`crate::models::sav_relaxation`]).
+    ledger: RelaxationLedger,
     /// `Ĥ(q(n), q(n))` then `4 u_l Ĥ_l / √(2U)` (length `N_Ψ`).
     w: Vec<f64>,
     /// `g(q(n))` (√J per unit `q`, length `N_Φ`).
@@ -121,6 +167,11 @@ impl SavStep {
     pub(crate) fn new(n_phi: usize, n_psi: usize) -> Self {
         Self {
             psi: 0.0,
+            relaxation: SavRelaxation::OFF,
+            psi_q_prev: f64::NAN,
+            shift_prev: 0.0,
+            relaxed: 0.0,
+            ledger: RelaxationLedger::default(),
             w: vec![0.0; n_psi],
             g: vec![0.0; n_phi],
             // The block kernel's scratch: permuted q, H^l q and gradient, + 8 padding.
@@ -244,6 +295,47 @@ impl SavStep {
         ok_a && ok_b
     }
 
+    /// Sets `ψ(n-½) = psi` (√J) for a new state and forgets the previous step's `√(2U)` (the
+    /// next relaxation target is then `√(2U(q(n)))` alone). No allocation.
+    pub(crate) fn restart(&mut self, psi: f64) {
+        self.psi = psi;
+        self.psi_q_prev = f64::NAN;
+        self.relaxed = 0.0;
+        self.ledger = RelaxationLedger::default();
+    }
+
+    /// Forgets the previous step's `√(2U)` (after the coefficients of `U` changed, a retune):
+    /// the next relaxation target is `√(2U(q(n)))` alone. No allocation.
+    pub(crate) fn forget_target(&mut self) {
+        self.psi_q_prev = f64::NAN;
+    }
+
+    /// The energy the relaxation removed in the steps since the last call (J; negative when
+    /// its budget returned some), and clears it. Audio thread.
+    pub(crate) fn take_relaxed(&mut self) -> f64 {
+        std::mem::take(&mut self.relaxed)
+    }
+
+    /// Relaxes `ψ(n-½)` toward `ψ* = √2 (U_→ U_←)^{1/4}` from the two mixed energies
+    /// `back` (`U_←`, of the previous step's gradient) and `fwd` (`U_→`, of this step's) (J;
+    /// module doc), the energy growing by at most the relaxation's allowance (its bank and its
+    /// share of the last step's physical dissipation `dissipated`, J). The target is 0 when
+    /// either is negative (module doc). Audio thread, O(1).
+    fn relax_toward(&mut self, back: f64, fwd: f64, dissipated: f64) {
+        if back.is_nan() || fwd.is_nan() {
+            return;
+        }
+        let target = if back < 0.0 || fwd < 0.0 {
+            0.0
+        } else {
+            (2.0 * (back * fwd).sqrt()).sqrt()
+        };
+        self.ledger.begin_step(&self.relaxation, dissipated);
+        let (psi, removed) = relax(&self.relaxation, self.psi, target, 1.0, &mut self.ledger);
+        self.psi = psi;
+        self.relaxed += removed;
+    }
+
     /// `ψ = √(2U)` from the in-plane products `bl = Ĥ(·,·)_l`: `2U = 2 Σ u_l bl²`.
     pub(crate) fn psi_from(u_coef: &[f64], bl: &[f64]) -> f64 {
         (2.0 * u_coef.iter().zip(bl).map(|(u, b)| u * b * b).sum::<f64>()).sqrt()
@@ -252,7 +344,9 @@ impl SavStep {
     /// One step: writes `q(n+1)` into `q_next` and advances `ψ` to `ψ(n+½)`.
     /// `fscale = h² F(n) / ρh`. `rest`: for a plate with a rest shape `a`
     /// (`super::model::rest_shape`), `(r, c)` with `r = q(n) + a` and `c_l = Ĥ(a, a)_l`, so
-    /// that `U = Σ_l u_l (Ĥ(r,r)_l - c_l)²`; `None` for a flat plate.
+    /// that `U = Σ_l u_l (Ĥ(r,r)_l - c_l)²`; `None` for a flat plate. `dissipated`: the last
+    /// step's physical dissipation (J), of which the relaxation may return a share to `ψ`
+    /// (module doc, "Relaxation").
     /// Audio thread: no allocation, `O(nnz + N_Φ)` work.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn step<C: ModalCoupling + ?Sized>(
@@ -263,18 +357,38 @@ impl SavStep {
         q_prev: &[f64],
         rest: Option<(&[f64], &[f64])>,
         fscale: f64,
+        dissipated: f64,
         q_next: &mut [f64],
     ) {
+        // The relaxation's backward mixed energy U_← = ψ_q(n-1) g(n-1)·r(n)/4 - shift(n-1),
+        // from the previous step's g, before this step overwrites it (module doc).
+        let n = q.len();
+        let relaxing = self.relaxation.is_on() && !self.w.is_empty() && !self.psi_q_prev.is_nan();
+        let back = if relaxing {
+            let r_now = rest.map_or(q, |(r, _)| r);
+            0.25 * self.psi_q_prev * dot(&self.g[..n], &r_now[..n]) - self.shift_prev
+        } else {
+            f64::NAN
+        };
+        let mut shift = 0.0;
         // g = ∇U / √(2U), ∇U_s = Σ_l 4 u_l Ĥ(q,q)_l Σ_k Ĥ^l_{s,k} q_k (fused kernel when the
         // coupling has one, else two passes; a curved plate takes the two passes at r with
         // Ĥ(r,r) - c).
-        if self.w.is_empty() {
+        let psi_q = if self.w.is_empty() {
             self.g.fill(0.0);
+            0.0
         } else if let Some((r, c)) = rest {
             coupling.contract_eta(r, r, &mut self.w);
             for (w, &c) in self.w.iter_mut().zip(c) {
                 *w -= c;
             }
+            shift = self
+                .w
+                .iter()
+                .zip(c)
+                .zip(k.u_coef)
+                .map(|((e, c), u)| u * e * c)
+                .sum();
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             if psi_q > 0.0 {
                 let inv = 4.0 / psi_q;
@@ -285,12 +399,14 @@ impl SavStep {
             } else {
                 self.g.fill(0.0);
             }
+            psi_q
         } else if self.fused_gradient(coupling, q, k.u_coef) {
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };
             for g in self.g.iter_mut() {
                 *g *= inv;
             }
+            psi_q
         } else {
             coupling.contract_eta(q, q, &mut self.w);
             let psi_q = Self::psi_from(k.u_coef, &self.w);
@@ -303,7 +419,21 @@ impl SavStep {
             } else {
                 self.g.fill(0.0);
             }
+            psi_q
+        };
+        if relaxing {
+            // The forward mixed energy U_→ = ψ_q(n) g(n)·r(n-1)/4 - shift(n), with
+            // r(n-1) = q(n-1) + a = q(n-1) + (r(n) - q(n)) on a curved plate.
+            let g = &self.g[..n];
+            let g_r_prev = match rest {
+                Some((r, _)) => (0..n).map(|s| g[s] * (q_prev[s] + (r[s] - q[s]))).sum(),
+                None => dot(g, &q_prev[..n]),
+            };
+            let fwd = 0.25 * psi_q * g_r_prev - shift;
+            self.relax_toward(back, fwd, dissipated);
         }
+        self.psi_q_prev = psi_q;
+        self.shift_prev = shift;
         // Solve for the increment δ = q(n+1) - q(n-1) rather than q(n+1): the rank-one
         // correction cancels most of `A⁻¹r` along `g` when `β gᵀA⁻¹g ≫ 1` (stiff nonlinearity),
         // and that cancellation costs round-off relative to the size of the solved vector; `δ`
@@ -354,4 +484,10 @@ impl SavStep {
         }
         gz
     }
+}
+
+/// `Σ a_s b_s` (audio thread, no allocation).
+#[inline]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    lane_sum(a.len(), |s| a[s] * b[s])
 }

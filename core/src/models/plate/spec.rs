@@ -312,6 +312,13 @@ pub struct PlateSpec {
     pub sim_rate: f64,
     /// Time scheme.
     pub scheme: PlateScheme,
+    /// The `sav` scheme's relaxation time constant in s (0 to 10; default
+    /// [`crate::models::sav_relaxation::DEFAULT_TIME_CONSTANT`]): how fast the auxiliary
+    /// variable is pulled back to its definition, with the energy it removes counted as
+    /// dissipation ([`crate::models::sav_relaxation`]). 0: the plain SAV scheme (it drifts over
+    /// repeated strikes). Ignored by the other schemes.
+    #[serde(default = "default_sav_relaxation")]
+    pub sav_relaxation: f64,
     /// Storage of the coupling tensor's values: `"double"` (default, `f64`) or `"single"`
     /// (every value rounded to `f32` once; faster kernels, the energy still conserved to
     /// round-off; see [`crate::modal::TensorStorage`]).
@@ -337,7 +344,20 @@ pub struct PlateSpec {
     pub pickups: Vec<Pickup>,
 }
 
+/// The default of [`PlateSpec::sav_relaxation`] (s).
+pub fn default_sav_relaxation() -> f64 {
+    crate::models::sav_relaxation::DEFAULT_TIME_CONSTANT
+}
+
 impl PlateSpec {
+    /// The SAV relaxation this spec asks for at its simulation rate.
+    pub fn sav_relaxation_at_rate(&self) -> crate::models::sav_relaxation::SavRelaxation {
+        crate::models::sav_relaxation::SavRelaxation::from_scene(
+            self.sav_relaxation,
+            1.0 / self.sim_rate,
+        )
+    }
+
     /// Checks every field's range; errors name the dotted field (`plate.thickness`, ...).
     pub fn validate(&self) -> Result<(), ParamError> {
         if self.shape.is_circular() {
@@ -373,6 +393,8 @@ impl PlateSpec {
             }
         }
         PLATE_SIM_RATE.check("plate.sim_rate", self.sim_rate)?;
+        crate::models::ranges::SAV_RELAXATION_TIME
+            .check("plate.sav_relaxation", self.sav_relaxation)?;
         if self.symmetry == Symmetry::StrikeMirror && !self.shape.is_circular() {
             return Err(ParamError::new(
                 "plate.symmetry",

@@ -189,6 +189,7 @@ impl PlateVoice {
         };
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(scoped)?;
+        model.set_sav_relaxation(scene.sav_relaxation_at_rate());
         if !scene.imperfection.is_empty() && !linear_only {
             let rest =
                 rest_projection::project(&scene.imperfection, &basis, scene.shape, a, aspect);

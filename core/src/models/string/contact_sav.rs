@@ -45,10 +45,11 @@
 //! error. In particular, when a node leaves the obstacle `g` drops to 0 and `z` freezes at
 //! whatever the last increment left, generally not 0; that energy stays in the contact term
 //! (it is conserved, not lost) and `f = g μ_{t·}z` may be slightly negative (attractive) in the
-//! first steps of the next contact if `z` froze below 0. This implementation keeps `z` as the
-//! scheme defines it, so `H_q` is conserved exactly (resetting `z` to `√(2ψ)` off contact
-//! would trade exact conservation for dissipation; the full text of the JASA paper could not
-//! be consulted here, so whether it discusses such a reset is not checked). The gap `Δx Σ (z²/2 - ψ)` is reported
+//! first steps of the next contact if `z` froze below 0. By default this implementation keeps
+//! `z` as the scheme defines it, so `H_q` is conserved exactly; a relaxation of the `z` of
+//! nodes off the obstacle toward 0, with the energy it removes counted as dissipation, is
+//! available (`StiffString::set_sav_relaxation`, [`crate::models::sav_relaxation`]; off by
+//! default: measured in docs/models.md, "Long performances"). The gap `Δx Σ (z²/2 - ψ)` is reported
 //! ([`crate::models::string::StiffString::quadratisation_gap`]). Measured (docs/ACCURACY.md):
 //! on the lossless sitar at 2 MHz the gap stays below 7.5e-4 of H and the bridge force dips to
 //! -0.7 N against peaks of 2-4 N. A second cost: at low rates the force `g μ_{t·}z` is bounded

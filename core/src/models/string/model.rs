@@ -13,6 +13,7 @@ use super::params::StringParams;
 use super::rows::NodeRows;
 use super::transform::ModalMap;
 use crate::error::ParamError;
+use crate::models::sav_relaxation::{RelaxationLedger, SavRelaxation};
 use crate::models::source::{
     ContactSummary, EnergyTerms, ModelDetails, RenderSource, ShapeSnapshot, StringDetails,
 };
@@ -139,6 +140,17 @@ pub struct StiffString {
     /// only by that scheme, re-initialised from the state on reset, initial conditions and
     /// scheme switches.
     contact_z: Vec<f64>,
+    /// How the quadratised scheme's `z_i` of nodes off the obstacle are pulled back to
+    /// `√(2ψ(η_i)) = 0` before each step ([`crate::models::sav_relaxation`]; default
+    /// [`SavRelaxation::contact_default_at`] the step).
+    relaxation: SavRelaxation,
+    /// Physical energy dissipated in the last step (J): the relaxation's budget.
+    step_dissipated: f64,
+    /// Energy removed by the relaxation since the initial condition (J; part of
+    /// `dissipated`, negative where its budget returned some).
+    relaxed: f64,
+    /// What the relaxation may give back ([`crate::models::sav_relaxation`]).
+    ledger: RelaxationLedger,
     /// Solver counters.
     stats: ContactStats,
     /// Energy dissipated since the initial condition (J).
@@ -221,6 +233,10 @@ impl StiffString {
             law: config.contact,
             scheme: ContactScheme::default(),
             contact_z: vec![0.0; samples.len()],
+            relaxation: SavRelaxation::contact_default_at(h),
+            step_dissipated: 0.0,
+            relaxed: 0.0,
+            ledger: RelaxationLedger::default(),
             stats: ContactStats::default(),
             dissipated: 0.0,
             work: 0.0,
@@ -244,6 +260,9 @@ impl StiffString {
         self.contact_f.fill(0.0);
         self.stats = ContactStats::default();
         self.dissipated = 0.0;
+        self.step_dissipated = 0.0;
+        self.relaxed = 0.0;
+        self.ledger = RelaxationLedger::default();
         self.hand.dissipated = 0.0;
         self.hand.force = 0.0;
         self.work = 0.0;

@@ -58,6 +58,11 @@ pub enum StringLosses {
     },
 }
 
+/// The default of [`StringSpec::sav_relaxation`] (s).
+pub fn default_contact_relaxation() -> f64 {
+    crate::models::sav_relaxation::DEFAULT_CONTACT_TIME_CONSTANT
+}
+
 fn default_contact_scheme() -> String {
     ContactScheme::default().name().into()
 }
@@ -255,6 +260,13 @@ pub struct StringSpec {
     /// `models::string::contact_sav`).
     #[serde(default = "default_contact_scheme")]
     pub contact_scheme: String,
+    /// The quadratised contact's relaxation time constant in s (0 to 10; default
+    /// [`crate::models::sav_relaxation::DEFAULT_CONTACT_TIME_CONSTANT`]): how fast the
+    /// auxiliary `z_i` of a node off the obstacle decays to `√(2ψ(η_i)) = 0` (the energy it
+    /// removes counted as dissipation, [`crate::models::sav_relaxation`]). 0: the plain
+    /// quadratised scheme. Ignored by the Newton scheme.
+    #[serde(default = "default_contact_relaxation")]
+    pub sav_relaxation: f64,
     /// The excitation.
     pub excitation: StringExcitation,
     /// Output channels (default: velocity pickups at 0.37 L and 0.83 L, a stereo pair).

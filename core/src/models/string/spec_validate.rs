@@ -21,6 +21,8 @@ impl StringSpec {
         let l = STRING_LENGTH.check("string.length", self.length)?;
         check_closed("string.diameter", self.diameter, 0.0, 0.1)?;
         STRING_TENSION.check("string.tension", self.tension)?;
+        crate::models::ranges::SAV_RELAXATION_TIME
+            .check("string.sav_relaxation", self.sav_relaxation)?;
         STRING_LINEAR_DENSITY.check("string.linear_density", self.linear_density)?;
         match (self.inharmonicity, self.bending_stiffness) {
             (Some(b), None) => {

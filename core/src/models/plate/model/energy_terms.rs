@@ -6,8 +6,11 @@ use crate::models::plate::coupling::ModalCoupling;
 use crate::models::plate::lanes::lane_sums;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
-    /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`).
+    /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`), and the
+    /// energy the SAV relaxation removed (counted as dissipated; the physical part is kept as
+    /// the next step's relaxation budget).
     pub(super) fn update_power(&mut self, force: f64) {
+        let before = self.energy.dissipated;
         let (h, rho_h, n) = (self.h, self.rho_h, self.q.len());
         let (qn, qp) = (&self.q_next[..n], &self.q_prev[..n]);
         let (c, fw) = (&self.c_eff[..n], &self.force_weights[..n]);
@@ -21,6 +24,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         self.energy.work += h * force * pw * inv_2h;
         if self.hand.c > 0.0 {
             self.hand_power();
+        }
+        self.step_dissipated = self.energy.dissipated - before;
+        if let Some(sav) = self.sav.as_mut() {
+            let removed = sav.take_relaxed();
+            self.energy.dissipated += removed;
+            self.energy.relaxed += removed;
         }
     }
 
@@ -46,6 +55,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         if reset_accumulators {
             self.energy.dissipated = 0.0;
             self.energy.hand_dissipated = 0.0;
+            self.energy.relaxed = 0.0;
             self.energy.work = 0.0;
             self.energy.step = 0;
         }

@@ -80,7 +80,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         rest.shift.fill(0.0);
         self.refresh_b_half();
         if let Some(sav) = self.sav.as_mut() {
-            sav.psi = super::SavStep::psi_from(&self.u_coef, &self.b_half);
+            sav.restart(super::SavStep::psi_from(&self.u_coef, &self.b_half));
         }
         if self.track_energy {
             self.update_stored_energy(false);

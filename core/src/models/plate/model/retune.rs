@@ -101,11 +101,19 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             self.b[s] = 2.0 - h * h * lc.omega_sq;
             self.d[s] = 1.0 - 0.5 * lc.damping * h;
         }
+        let mut potential_changed = false;
         for (l, &z) in zeta4.iter().enumerate() {
             let dl = kappa * kappa * e_h / (4.0 * rho_h * z);
             self.dh2[l] = h * h * dl;
             self.e_sqrt[l] = h * dl.sqrt();
-            self.u_coef[l] = e_h * kappa * kappa / (8.0 * z);
+            let u = e_h * kappa * kappa / (8.0 * z);
+            potential_changed |= u != self.u_coef[l];
+            self.u_coef[l] = u;
+        }
+        // The SAV relaxation's target uses the previous step's gradient of `U`: stale once
+        // `U` changed (a retune to the same coefficients changes nothing).
+        if let Some(sav) = self.sav.as_mut().filter(|_| potential_changed) {
+            sav.forget_target();
         }
         Ok(())
     }

@@ -45,6 +45,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             &self.q_prev,
             rest,
             fscale,
+            self.step_dissipated,
             &mut self.q_next,
         );
         true

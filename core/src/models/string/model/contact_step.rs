@@ -6,6 +6,7 @@
 //! [`crate::models::string::contact_sav`]).
 
 use super::StiffString;
+use crate::models::sav_relaxation::{relax, SavRelaxation};
 use crate::models::string::contact::solve_point;
 use crate::models::string::contact_sav::{solve_point_quadratised, ContactScheme};
 
@@ -16,6 +17,44 @@ impl StiffString {
     pub fn set_contact_scheme(&mut self, scheme: ContactScheme) {
         self.scheme = scheme;
         self.init_quadratised();
+    }
+
+    /// Sets how the quadratised scheme's `z_i` of nodes off the obstacle (at both `n` and
+    /// `n-1`) are relaxed toward `√(2ψ(η_i)) = 0` before each step
+    /// ([`crate::models::sav_relaxation`]; [`SavRelaxation::OFF`]: the plain scheme). No
+    /// effect on the Newton scheme. O(1), no allocation.
+    pub fn set_sav_relaxation(&mut self, relaxation: SavRelaxation) {
+        self.relaxation = relaxation;
+    }
+
+    /// The relaxation of the quadratised scheme's `z_i`.
+    pub fn sav_relaxation(&self) -> SavRelaxation {
+        self.relaxation
+    }
+
+    /// Energy removed by the quadratised scheme's relaxation since the initial condition (J;
+    /// part of [`crate::models::source::EnergyTerms::dissipated`]; negative where its budget
+    /// returned some of the losses; 0 for the Newton scheme).
+    pub fn relaxed(&self) -> f64 {
+        self.relaxed
+    }
+
+    /// `Δx Σ z_i²/2` over the obstacle nodes off the obstacle at `n` and `n-1` (J): the
+    /// energy the quadratised scheme still holds at nodes whose contact has ended (0 for the
+    /// Newton scheme). Without the relaxation it stays there until the node's next contact.
+    /// O(obstacle nodes).
+    pub fn released_contact_energy(&self) -> f64 {
+        if self.scheme != ContactScheme::Quadratised {
+            return 0.0;
+        }
+        let mut e = 0.0;
+        for (n, &i) in self.contact_nodes.iter().enumerate() {
+            let g = self.contact_g[n];
+            if g - self.u_now[i] <= 0.0 && g - self.u_prev[i] <= 0.0 {
+                e += self.contact_z[n] * self.contact_z[n];
+            }
+        }
+        0.5 * self.params.dx() * e
     }
 
     /// The contact scheme in use.
@@ -68,6 +107,14 @@ impl StiffString {
         let k = self.k;
         let mut total = 0.0;
         let mut active = 0usize;
+        // The relaxation's allowance (J), spent node by node in order (module doc of
+        // `sav_relaxation`); `dx` the energy scale of `z_i²/2`.
+        let relaxing = self.scheme == ContactScheme::Quadratised && self.relaxation.is_on();
+        if relaxing {
+            self.ledger
+                .begin_step(&self.relaxation, self.step_dissipated);
+        }
+        let dx = self.params.dx();
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
             let eta_prev = g - self.u_prev[i];
@@ -80,7 +127,24 @@ impl StiffString {
                     sol.force
                 }
                 ContactScheme::Quadratised => {
-                    let slope = self.law.quadratised_slope(g - self.u_now[i]);
+                    let eta_now = g - self.u_now[i];
+                    if relaxing && eta_now <= 0.0 && eta_prev <= 0.0 && self.contact_z[n] != 0.0 {
+                        // Off the obstacle at n and n-1, `√(2ψ)` is exactly 0 there: `z`
+                        // decays to it (in contact it is left to the scheme, whose own `z`
+                        // tracks `√(2ψ)` to its consistency error; only the `z` a release
+                        // leaves behind is drift).
+                        let (z, removed) = relax(
+                            &self.relaxation,
+                            self.contact_z[n],
+                            0.0,
+                            dx,
+                            &mut self.ledger,
+                        );
+                        self.contact_z[n] = z;
+                        self.relaxed += removed;
+                        self.dissipated += removed;
+                    }
+                    let slope = self.law.quadratised_slope(eta_now);
                     let sol = solve_point_quadratised(slope, self.contact_z[n], b, k);
                     self.contact_z[n] = sol.z;
                     sol.force

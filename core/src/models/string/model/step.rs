@@ -64,6 +64,8 @@ impl StiffString {
     /// Advances one step `n → n+1` (see the module doc for the algorithm).
     pub fn step(&mut self) {
         let k = self.k;
+        let dissipated_before = self.dissipated;
+        let relaxed_before = self.relaxed;
         // 1. Free update (difference form of the exact scheme) plus the external modal force,
         //    fused with the synthesis input w = q + Δ_free.
         let fe = match self.strike {
@@ -146,6 +148,10 @@ impl StiffString {
             lossy: self.lossy,
         });
         self.dissipated += d;
+        // The physical losses of this step (damping and hand, not the relaxation): the next
+        // step's relaxation budget.
+        self.step_dissipated =
+            (self.dissipated - dissipated_before) - (self.relaxed - relaxed_before);
         std::mem::swap(&mut self.dq, &mut self.dq_next);
         std::mem::swap(&mut self.u_prev, &mut self.u_now);
         std::mem::swap(&mut self.u_now, &mut self.u_next);
