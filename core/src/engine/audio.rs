@@ -417,6 +417,31 @@ impl Engine {
         self.output
             .process(left, right, self.values.get(ParamId::LowCut), limit);
         self.frame += len as u64;
+        self.rest_if_silent(target);
+    }
+
+    /// At rest (no voice sounds, no bank is held by a late job or fading out, the resampler
+    /// reads only zeros and the output stage holds only zeros), puts the chain after the voices
+    /// back in the state a new engine's silence has: the resampler's time origin
+    /// ([`crate::engine::resample::Resampler::reanchor`]), the limiter's release state, and the
+    /// output gain exactly at its target (the smoother can stop an ulp or a few away). Nothing
+    /// audible changes (everything is silent), and the next note after any performance sounds
+    /// bit for bit as on a new instance (`tests/engine/long_performance.rs`). Audio thread,
+    /// O(history + look-ahead).
+    fn rest_if_silent(&mut self, gain_target: f32) {
+        if self.held.is_some() || self.retiring.is_some() {
+            return;
+        }
+        let Some(b) = self.bank.as_mut() else {
+            return;
+        };
+        if b.voices.iter().any(|v| v.active) || !self.output.is_at_rest() {
+            return;
+        }
+        if b.resampler.reanchor() {
+            self.output.reset();
+            self.gain = gain_target;
+        }
     }
 }
 

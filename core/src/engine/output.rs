@@ -160,6 +160,15 @@ impl OutputStage {
         self.frame = 0;
     }
 
+    /// Whether the stage holds only silence: its look-ahead and low-cut filter state are all
+    /// exactly zero (then [`Self::reset`] changes no output sample still to come, only the
+    /// limiter's release state, which silence leaves a few ulps from 1). Audio thread,
+    /// O(look-ahead).
+    pub fn is_at_rest(&self) -> bool {
+        self.low_cut.z.iter().flatten().all(|&z| z == 0.0)
+            && self.delay.iter().flatten().all(|&x| x == 0.0)
+    }
+
     /// The smallest limiter gain since the last call (1: no limiting), then resets it.
     /// Audio thread (telemetry).
     pub fn take_min_gain(&mut self) -> f32 {

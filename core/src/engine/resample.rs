@@ -143,6 +143,30 @@ impl Resampler {
         self.zero_run = usize::MAX / 2;
     }
 
+    /// At silence ([`Self::is_silent`]), moves the time origin to the one every silent
+    /// resampler of this ratio shares: history cleared, the next output's kernel at input 0,
+    /// its `2 half + 1` inputs already pushed (zeros), so the next pushed input is heard
+    /// `half + 1` inputs after the next output sample, as in the steady state (within one
+    /// input sample: the fractional phase `pos` had accumulated is dropped). Two engines that
+    /// have both been silent then resample the next sound bit for bit alike, whatever they
+    /// played before. No effect (returns `false`) unless silent. Audio thread, O(history).
+    pub fn reanchor(&mut self) -> bool {
+        if !self.is_silent() {
+            return false;
+        }
+        let anchored = 2 * self.half as u64 + 1;
+        if self.pos == 0.0 && self.written == anchored {
+            return true;
+        }
+        for h in &mut self.hist {
+            h.fill(0.0);
+        }
+        self.pos = 0.0;
+        self.written = anchored;
+        self.zero_run = usize::MAX / 2;
+        true
+    }
+
     /// Whether every input sample the next output can read is zero (then the output is
     /// zero and [`Self::advance_silent`] may replace `push` + `produce`).
     pub fn is_silent(&self) -> bool {
