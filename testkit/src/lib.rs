@@ -8,6 +8,8 @@
 //! - [`alloc`]: the test binaries' global allocator (`assert_no_alloc`'s, with a per-thread
 //!   allocation counter);
 //! - [`env`]: the process environment the tests share (the modal cache directory, set once);
+//! - [`performance`]: long performances (minutes of playing, then a fresh strike compared
+//!   with the same strike on a new instance);
 //! - [`presets`]: a factory preset's parameters with some changed, the set-up the engine
 //!   tests and benchmarks start from;
 //! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/robustness`,
@@ -16,5 +18,6 @@
 pub mod alloc;
 pub mod env;
 pub mod harness;
+pub mod performance;
 pub mod presets;
 pub mod soak;

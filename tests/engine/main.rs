@@ -16,6 +16,7 @@ mod engine_shape;
 mod engine_split_step;
 mod engine_threads;
 mod extreme_levels;
+mod long_performance;
 mod per_note;
 mod pitch_from_sound;
 mod preset_levels;
