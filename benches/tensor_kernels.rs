@@ -9,6 +9,8 @@
 //! criterion's `elem/s` inverts to ns per entry per step. Environment (optional):
 //! `NOETHER_BENCH_TENSORS=mirror:510x15,full:1000x30` (`full` or `mirror` basis, `N_Φ x N_Ψ`;
 //! default `mirror:510x15,mirror:510x30,full:1000x30`).
+//! The whole-step group also runs the double-storage step without the relaxation of `ψ`
+//! (`plain/...`, `plate.sav_relaxation = 0`): the relaxation's cost is the ratio of the two.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use noether::modal::{
@@ -64,8 +66,8 @@ fn sizes() -> Vec<(String, bool, usize, usize)> {
 }
 
 /// The gong voice of `examples/gong_rtf.rs` (the lecture's gong, `sav` at 12 kHz) with the
-/// given basis, size and storage.
-fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str) -> PlateVoice {
+/// given basis, size, storage and SAV relaxation time constant (s; 0: off).
+fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str, relax: f64) -> PlateVoice {
     let symmetry = if mirror { "strike-mirror" } else { "full" };
     let sets = [
         format!("plate.n_phi={n_phi}"),
@@ -74,6 +76,7 @@ fn voice(mirror: bool, n_phi: usize, n_psi: usize, storage: &str) -> PlateVoice 
         "plate.scheme=sav".into(),
         format!("plate.symmetry={symmetry}"),
         format!("plate.tensor_storage={storage}"),
+        format!("plate.sav_relaxation={relax}"),
     ];
     seed_gong_voice(&sets)
 }
@@ -115,9 +118,14 @@ fn kernel(c: &mut Criterion) {
 fn step(c: &mut Criterion) {
     let mut g = c.benchmark_group("tensor-sav-step");
     g.sample_size(10);
+    let relaxed = noether::models::plate::spec::default_sav_relaxation();
     for (label, mirror, n_phi, n_psi) in sizes() {
-        for storage in [TensorStorage::Double, TensorStorage::Single] {
-            let mut v = voice(mirror, n_phi, n_psi, storage.name());
+        for (storage, relax, name) in [
+            (TensorStorage::Double, relaxed, "double"),
+            (TensorStorage::Single, relaxed, "single"),
+            (TensorStorage::Double, 0.0, "plain"),
+        ] {
+            let mut v = voice(mirror, n_phi, n_psi, storage.name(), relax);
             let nnz = v.model().coupling().nnz();
             g.throughput(Throughput::Elements((nnz * STEPS) as u64));
             let mut out = vec![vec![0.0; STEPS]; v.channels()];
@@ -125,7 +133,7 @@ fn step(c: &mut Criterion) {
             for _ in 0..8 {
                 v.process(&mut out, STEPS);
             }
-            g.bench_function(format!("{}/{label}", storage.name()), |b| {
+            g.bench_function(format!("{name}/{label}"), |b| {
                 b.iter_custom(|iters| {
                     cpu_time(iters, || {
                         v.process(&mut out, STEPS);
