@@ -5,11 +5,17 @@
 //!
 //! `cargo run --release --example long_performance -- --seconds 120 gong-80N gong-40N`
 //! (`--scheme sav` etc. to force a plate scheme; `--modes N` to lower the mode budget; no
-//! preset: every factory preset). Prints one Markdown row per run.
+//! preset: every factory preset; `--storm S` plays S seconds of the soak's random note storm,
+//! 8 notes a second under `assert_no_alloc`, instead of the scripted performance). Prints one
+//! Markdown row per run.
 
+use assert_no_alloc::{assert_no_alloc, AllocDisabler};
 use clap::Parser;
 use noether::engine::{ModelKind, ParamId, Preset};
-use noether_testkit::performance::{after_performance, Performance};
+use noether_testkit::performance::{after_performance, after_storm, Performance};
+
+#[global_allocator]
+static A: AllocDisabler = AllocDisabler;
 use noether_testkit::presets::preset_params;
 
 /// Long performances, then a fresh strike compared with a new instance's.
@@ -30,6 +36,9 @@ struct Args {
     /// Transverse mode budget (default: the preset's).
     #[arg(long)]
     modes: Option<f32>,
+    /// Seconds of the soak's random note storm instead of the scripted performance.
+    #[arg(long)]
+    storm: Option<f64>,
     /// Seed of the script's random re-strikes.
     #[arg(long, default_value_t = 29)]
     seed: u64,
@@ -90,16 +99,25 @@ fn main() {
             } else {
                 "exact modal, Newton contact".to_string()
             };
-            let perf = Performance::new(args.seconds, key, args.seed);
-            let c = after_performance(
-                || preset_params(stem, &sets),
-                &perf,
-                key,
-                args.velocity as f32 / 127.0,
-                0.2,
-                4.0,
-                600.0,
-            );
+            let velocity = args.velocity as f32 / 127.0;
+            let c = match args.storm {
+                Some(seconds) => after_storm(
+                    || preset_params(stem, &sets),
+                    seconds,
+                    8.0,
+                    args.seed,
+                    |e, ev, l, r| assert_no_alloc(|| e.process_events(ev, l, r)),
+                    key,
+                    velocity,
+                    4.0,
+                    600.0,
+                ),
+                None => {
+                    let perf = Performance::new(args.seconds, key, args.seed);
+                    let params = || preset_params(stem, &sets);
+                    after_performance(params, &perf, key, velocity, 0.2, 4.0, 600.0)
+                }
+            };
             println!(
                 "| {stem} | {name} | {} | {:+.2} | {:.0} | {:.0} / {:.0} | {:+.1} % | {} |",
                 c.notes,

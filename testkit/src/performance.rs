@@ -14,6 +14,7 @@
 //! Threads: test and example set-up only; the engine runs on the calling thread (its worker
 //! builds the banks). Allocates freely outside `Engine::process_events`.
 
+use crate::soak::{Draw, Storm};
 use noether_core::engine::{Engine, Event, EventKind, NoteExpression, SharedParams};
 use oorandom::Rand64;
 use rustfft::{num_complex::Complex, FftPlanner};
@@ -140,6 +141,81 @@ impl Performance {
             .iter()
             .filter(|e| matches!(e.kind, EventKind::NoteOn { .. }))
             .count()
+    }
+}
+
+/// Plays `seconds` of the soak's note storm (`crate::soak::Storm`: notes on every key at
+/// `notes_per_second`, random velocities, offsets, bends, wheel, pedal, per-note expressions
+/// and per-note parameter values; seeded by `seed`) in blocks of [`BLOCK`], each block through
+/// `process` (which must call `engine.process_events(events, left, right)`, wrapped as the
+/// caller likes: `assert_no_alloc`), then puts every controller back where a new engine has
+/// it and releases every note. Returns the notes played.
+pub fn storm<F>(
+    e: &mut Engine,
+    seconds: f64,
+    notes_per_second: f64,
+    seed: u64,
+    mut process: F,
+) -> u64
+where
+    F: FnMut(&mut Engine, &[Event], &mut [f32], &mut [f32]),
+{
+    let mut d = Draw::new(seed);
+    let mut storm = Storm::new(notes_per_second);
+    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
+    let mut events: Vec<Event> = Vec::with_capacity(4096);
+    let blocks = (seconds * HOST_RATE / BLOCK as f64).ceil() as u64;
+    for _ in 0..blocks {
+        storm.fill(&mut d, BLOCK, HOST_RATE, &mut events);
+        process(e, &events, &mut l, &mut r);
+    }
+    let end = [
+        EventKind::PitchBend(0.0),
+        EventKind::ModWheel(NEUTRAL_WHEEL),
+        EventKind::Sustain(false),
+        EventKind::AllNotesOff,
+    ]
+    .map(|kind| Event::new(0, kind));
+    process(e, &end, &mut l, &mut r);
+    storm.counts.note_ons
+}
+
+/// The soak's storm (`seconds` at `notes_per_second`, [`storm`]) on a new engine of
+/// `params()`, then, once every voice is idle (at most `settle_limit_s`), a strike of `key` at
+/// `velocity` (held `held_s`, rendered `seconds_strike`) against the same strike on another new
+/// engine of `params()`.
+#[allow(clippy::too_many_arguments)]
+pub fn after_storm<F>(
+    params: impl Fn() -> Arc<SharedParams>,
+    seconds: f64,
+    notes_per_second: f64,
+    seed: u64,
+    process: F,
+    key: u8,
+    velocity: f32,
+    seconds_strike: f64,
+    settle_limit_s: f64,
+) -> StrikeComparison
+where
+    F: FnMut(&mut Engine, &[Event], &mut [f32], &mut [f32]),
+{
+    let mut played = engine(params());
+    let notes = storm(&mut played, seconds, notes_per_second, seed, process);
+    let settle_s = settle(&mut played, settle_limit_s).unwrap_or_else(|| {
+        panic!("voices still sounding {settle_limit_s} s after the storm")
+    });
+    let after = strike(&mut played, key, velocity, 0.2, seconds_strike);
+    let mut new = engine(params());
+    let fresh = strike(&mut new, key, velocity, 0.2, seconds_strike);
+    let (worst_band_db, worst_band_hz, centroid_after, centroid_fresh) = compare(&after, &fresh);
+    StrikeComparison {
+        worst_band_db,
+        worst_band_hz,
+        centroid_after,
+        centroid_fresh,
+        identical: after == fresh,
+        settle_s,
+        notes: notes as usize,
     }
 }
 

@@ -121,3 +121,42 @@ fn pumped_voice_is_silenced_not_infinite() {
     );
     assert_eq!(e.active_voices(), 0);
 }
+
+/// Random playing at accelerated speed leaves the instrument as it was: the soak's note storm
+/// (`noether_testkit::performance::storm`: 8 notes a second on every key, random velocities,
+/// bends, wheel, pedal, per-note expressions and per-note parameter values, every block under
+/// `assert_no_alloc`) for 40 s of audio on the 40 N gong (SAV, 120 modes: the drift the SAV
+/// relaxation removes is independent of the mode count) and on the sitar, then, once every
+/// voice is idle, a soft strike on the root key is the same strike on a new instance: bands
+/// within 1 dB, centroid within 10 %, and bit for bit. The hour-long run of docs/robustness.md:
+/// `cargo run --release --example long_performance -- --storm 3600 PRESET`.
+#[test]
+fn random_playing_leaves_the_instrument_as_it_was() {
+    use noether_testkit::performance::after_storm;
+    use noether_testkit::presets::preset_params;
+    for (stem, sets, key) in [
+        ("gong-40N", vec![(ParamId::Modes, 120.0)], 60),
+        ("sitar", vec![], 55),
+    ] {
+        let c = after_storm(
+            || preset_params(stem, &sets),
+            40.0,
+            8.0,
+            0x5eed_0029,
+            |e, ev, l, r| assert_no_alloc(|| e.process_events(ev, l, r)),
+            key,
+            40.0 / 127.0,
+            2.0,
+            120.0,
+        );
+        println!(
+            "{stem}: {} notes, settled in {:.1} s, worst band {:+.2} dB, centroid {:.0} / {:.0} Hz, \
+             identical {}",
+            c.notes, c.settle_s, c.worst_band_db, c.centroid_after, c.centroid_fresh, c.identical
+        );
+        assert!(c.notes > 250, "{stem}: {c:?}");
+        assert!(c.worst_band_db.abs() <= 1.0, "{stem}: {c:?}");
+        assert!(c.centroid_change().abs() <= 0.1, "{stem}: {c:?}");
+        assert!(c.identical, "{stem}: {c:?}");
+    }
+}
