@@ -201,12 +201,30 @@ where
 {
     let mut played = engine(params());
     let notes = storm(&mut played, seconds, notes_per_second, seed, process);
-    let settle_s = settle(&mut played, settle_limit_s).unwrap_or_else(|| {
-        panic!("voices still sounding {settle_limit_s} s after the storm")
-    });
-    let after = strike(&mut played, key, velocity, 0.2, seconds_strike);
-    let mut new = engine(params());
-    let fresh = strike(&mut new, key, velocity, 0.2, seconds_strike);
+    let strike = (key, velocity, 0.2, seconds_strike);
+    settled_strike(
+        played,
+        engine(params()),
+        strike,
+        settle_limit_s,
+        notes as usize,
+    )
+}
+
+/// Once every voice of `played` is idle (at most `settle_limit_s`; panics past it), the
+/// strike `(key, velocity, held s, rendered s)` on it against the same strike on `new`;
+/// `notes` played before.
+fn settled_strike(
+    mut played: Engine,
+    mut new: Engine,
+    (key, velocity, held_s, seconds): (u8, f32, f64, f64),
+    settle_limit_s: f64,
+    notes: usize,
+) -> StrikeComparison {
+    let settle_s = settle(&mut played, settle_limit_s)
+        .unwrap_or_else(|| panic!("voices still sounding {settle_limit_s} s after the playing"));
+    let after = strike(&mut played, key, velocity, held_s, seconds);
+    let fresh = strike(&mut new, key, velocity, held_s, seconds);
     let (worst_band_db, worst_band_hz, centroid_after, centroid_fresh) = compare(&after, &fresh);
     StrikeComparison {
         worst_band_db,
@@ -215,7 +233,7 @@ where
         centroid_fresh,
         identical: after == fresh,
         settle_s,
-        notes: notes as usize,
+        notes,
     }
 }
 
@@ -395,22 +413,14 @@ pub fn after_performance(
 ) -> StrikeComparison {
     let mut played = engine(params());
     play(&mut played, &performance.events, performance.samples);
-    let settle_s = settle(&mut played, settle_limit_s).unwrap_or_else(|| {
-        panic!("voices still sounding {settle_limit_s} s after the performance")
-    });
-    let after = strike(&mut played, key, velocity, held_s, seconds);
-    let mut new = engine(params());
-    let fresh = strike(&mut new, key, velocity, held_s, seconds);
-    let (worst_band_db, worst_band_hz, centroid_after, centroid_fresh) = compare(&after, &fresh);
-    StrikeComparison {
-        worst_band_db,
-        worst_band_hz,
-        centroid_after,
-        centroid_fresh,
-        identical: after == fresh,
-        settle_s,
-        notes: performance.notes(),
-    }
+    let strike = (key, velocity, held_s, seconds);
+    settled_strike(
+        played,
+        engine(params()),
+        strike,
+        settle_limit_s,
+        performance.notes(),
+    )
 }
 
 #[cfg(test)]
