@@ -74,9 +74,9 @@
 //! the centred damping `c̃ δ_{t.}q` vanishes, and `ψ g` is the stiffness that puts the pattern
 //! at `ωh = π`; a 16 s performance left a gong voice in it, silent (above the heard band) but
 //! never ending. With the target 0 there `ψ` decays and the orbit with it. No relaxation on the
-//! first step after a new state or a retune (the previous gradient is unknown or stale). The energy the relaxation removes is reported per step
-//! ([`SavStep::take_relaxed`]) and counted as dissipation by the model, so the power balance
-//! still closes to round-off.
+//! first step after a new state or a retune (the previous gradient is unknown or stale). The
+//! energy the relaxation removes is reported per step ([`SavStep::take_relaxed`]) and counted
+//! as dissipation by the model, so the power balance still closes to round-off.
 //!
 //! Threads: built with the model on a worker thread; [`SavStep::step`] runs on the audio thread
 //! without allocating.
@@ -84,6 +84,7 @@
 use super::coupling::ModalCoupling;
 use super::half_step::{HalfJob, StepBoard};
 use super::lanes::{lane_sum, lane_sums};
+use super::linalg::dot;
 use super::step_join::StepJoin;
 use crate::models::sav_relaxation::{relax, RelaxationLedger, SavRelaxation};
 use std::sync::Arc;
@@ -295,8 +296,8 @@ impl SavStep {
         ok_a && ok_b
     }
 
-    /// Sets `ψ(n-½) = psi` (√J) for a new state and forgets the previous step's `√(2U)` (the
-    /// next relaxation target is then `√(2U(q(n)))` alone). No allocation.
+    /// Sets `ψ(n-½) = psi` (√J) for a new state, forgets the previous step's gradient (the
+    /// next step is not relaxed) and empties the relaxation's account. No allocation.
     pub(crate) fn restart(&mut self, psi: f64) {
         self.psi = psi;
         self.psi_q_prev = f64::NAN;
@@ -304,8 +305,8 @@ impl SavStep {
         self.ledger = RelaxationLedger::default();
     }
 
-    /// Forgets the previous step's `√(2U)` (after the coefficients of `U` changed, a retune):
-    /// the next relaxation target is `√(2U(q(n)))` alone. No allocation.
+    /// Forgets the previous step's gradient (after the coefficients of `U` changed, a retune):
+    /// the next step is not relaxed. No allocation.
     pub(crate) fn forget_target(&mut self) {
         self.psi_q_prev = f64::NAN;
     }
@@ -484,10 +485,4 @@ impl SavStep {
         }
         gz
     }
-}
-
-/// `Σ a_s b_s` (audio thread, no allocation).
-#[inline]
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    lane_sum(a.len(), |s| a[s] * b[s])
 }

@@ -350,14 +350,6 @@ pub fn default_sav_relaxation() -> f64 {
 }
 
 impl PlateSpec {
-    /// The SAV relaxation this spec asks for at its simulation rate.
-    pub fn sav_relaxation_at_rate(&self) -> crate::models::sav_relaxation::SavRelaxation {
-        crate::models::sav_relaxation::SavRelaxation::from_scene(
-            self.sav_relaxation,
-            1.0 / self.sim_rate,
-        )
-    }
-
     /// Checks every field's range; errors name the dotted field (`plate.thickness`, ...).
     pub fn validate(&self) -> Result<(), ParamError> {
         if self.shape.is_circular() {

@@ -13,6 +13,7 @@ use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
 use super::{rest_projection, LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
 use crate::modal::CouplingTensor;
+use crate::models::sav_relaxation::SavRelaxation;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
 
 /// The force applied at the excitation point, sample by sample.
@@ -189,7 +190,7 @@ impl PlateVoice {
         };
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(scoped)?;
-        model.set_sav_relaxation(scene.sav_relaxation_at_rate());
+        model.set_sav_relaxation(SavRelaxation::from_scene(scene.sav_relaxation, model.h()));
         if !scene.imperfection.is_empty() && !linear_only {
             let rest =
                 rest_projection::project(&scene.imperfection, &basis, scene.shape, a, aspect);
