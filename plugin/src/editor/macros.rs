@@ -5,8 +5,11 @@
 //! follows presets and automation.
 //!
 //! Mappings (`t` the macro position 0..1; "log" interpolates the logarithm):
-//! - Hardness: plates, strike duration log 30 ms → 0.5 ms (shorter is a harder mallet);
-//!   strings, pluck position 50 % → 5 % of the length (a pluck near the end is sharper).
+//! - Hardness: what makes the strike harder for the exciter in use. Plates struck by the force
+//!   pulse: its duration log 30 ms → 0.5 ms (shorter is harder); by the mallet with the custom
+//!   head: its hardness 0 → 1 (felt to Hertz contact); by a factory head: the head, soft felt →
+//!   hard felt → rubber → wood → metal. Strings: pluck position 50 % → 5 % of the length (a
+//!   pluck near the end is sharper).
 //! - Brightness: plates, strike position 30 % → 95 % of the radius and both pickups 30 % →
 //!   95 % (towards the edge more high modes are excited and heard); strings, both pickups
 //!   50 % → 3 % of the length. Positions rebuild the voice bank (a short pause in new notes).
@@ -78,8 +81,55 @@ const fn log(id: ParamId, a: f32, b: f32) -> Target {
     }
 }
 
-/// The macros' names, tooltips and targets for a plate (`string` false) or a string model.
-pub fn macros(string: bool) -> [(&'static str, &'static str, Vec<Target>); 4] {
+/// What strikes a plate, which decides what the Hardness macro moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Striker {
+    /// The raised-cosine force pulse (`exciter` = pulse): its duration.
+    Pulse,
+    /// The mallet with the custom head: its hardness.
+    CustomMallet,
+    /// The mallet with a factory head: the head itself, softest to hardest.
+    FactoryMallet,
+}
+
+impl Striker {
+    /// The striker the `exciter` and `mallet_head` values (enumeration indices) select.
+    pub fn from_values(exciter: f32, head: f32) -> Self {
+        match (exciter.round() as i32, head.round() as i32) {
+            (1, 0) => Self::CustomMallet,
+            (1, _) => Self::FactoryMallet,
+            _ => Self::Pulse,
+        }
+    }
+}
+
+/// The plate's Hardness macro for `striker`: name, tooltip, targets.
+fn plate_hardness(striker: Striker) -> (&'static str, &'static str, Vec<Target>) {
+    use ParamId::*;
+    match striker {
+        Striker::Pulse => (
+            "Hardness",
+            "strike duration 30 ms → 0.5 ms (log): a shorter strike is a harder mallet",
+            vec![log(StrikeDuration, 0.03, 0.0005)],
+        ),
+        Striker::CustomMallet => (
+            "Hardness",
+            "mallet hardness 0 → 100 %: soft felt (K = 1e6, α = 2.5) to a hard Hertz contact (K = 1e9, α = 1.5)",
+            vec![lin(MalletHardness, 0.0, 1.0)],
+        ),
+        // The factory heads after `custom`, in the order of MALLET_HEAD_NAMES: soft felt,
+        // hard felt, rubber, wood, metal (each harder and brighter than the one before).
+        Striker::FactoryMallet => (
+            "Hardness",
+            "mallet head soft felt → hard felt → rubber → wood → metal",
+            vec![lin(MalletHead, 1.0, 5.0)],
+        ),
+    }
+}
+
+/// The macros' names, tooltips and targets for a string model (`string`) or a plate struck by
+/// `striker`.
+pub fn macros(string: bool, striker: Striker) -> [(&'static str, &'static str, Vec<Target>); 4] {
     use ParamId::*;
     let size = Size.info();
     [
@@ -90,11 +140,7 @@ pub fn macros(string: bool) -> [(&'static str, &'static str, Vec<Target>); 4] {
                 vec![lin(PluckPosition, 0.5, 0.05)],
             )
         } else {
-            (
-                "Hardness",
-                "strike duration 30 ms → 0.5 ms (log): a shorter strike is a harder mallet",
-                vec![log(StrikeDuration, 0.03, 0.0005)],
-            )
+            plate_hardness(striker)
         },
         if string {
             (
@@ -132,8 +178,12 @@ pub fn macros(string: bool) -> [(&'static str, &'static str, Vec<Target>); 4] {
 /// Draws the macro sliders in a row, `width` points for each.
 pub fn macro_row(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter, width: f32) {
     let string = params.slot(ParamId::Model).value() >= 3.0;
+    let striker = Striker::from_values(
+        params.slot(ParamId::Exciter).value(),
+        params.slot(ParamId::MalletHead).value(),
+    );
     ui.spacing_mut().slider_width = width;
-    for (name, help, targets) in macros(string) {
+    for (name, help, targets) in macros(string, striker) {
         let first = targets[0];
         let mut t = first.position(params.slot(first.id).value());
         ui.label(egui::RichText::new(name).strong())
@@ -155,22 +205,70 @@ mod tests {
 
     /// Every target stays inside its parameter's range at both ends and reads back its
     /// position (within 1e-4: f32 logarithms).
+    const STRIKERS: [Striker; 3] = [
+        Striker::Pulse,
+        Striker::CustomMallet,
+        Striker::FactoryMallet,
+    ];
+
+    /// Every target stays inside its parameter's range at both ends and reads back its
+    /// position (within 1e-4: f32 logarithms; the head, an integer, at its own positions).
     #[test]
     fn targets_round_trip_inside_the_ranges() {
         for string in [false, true] {
-            for (name, _, targets) in macros(string) {
-                for g in targets {
-                    let info = g.id.info();
-                    for t in [0.0, 0.3, 1.0] {
-                        let v = g.value(t);
-                        assert!(v >= info.min && v <= info.max, "{name} {}", info.key);
-                        assert!((g.position(v) - t).abs() < 1e-4, "{name} {}: {t}", info.key);
+            for striker in STRIKERS {
+                for (name, _, targets) in macros(string, striker) {
+                    for g in targets {
+                        let info = g.id.info();
+                        for t in [0.0, 0.25, 1.0] {
+                            let v = g.value(t);
+                            assert!(v >= info.min && v <= info.max, "{name} {}", info.key);
+                            assert!((g.position(v) - t).abs() < 1e-4, "{name} {}: {t}", info.key);
+                        }
                     }
                 }
             }
         }
-        // Harder is shorter: the hardness macro at 1 gives 0.5 ms.
-        let hard = &macros(false)[0].2[0];
+        // Harder is shorter: the pulse's hardness macro at 1 gives 0.5 ms.
+        let hard = &macros(false, Striker::Pulse)[0].2[0];
         assert!((hard.value(1.0) - 5e-4).abs() < 1e-7);
+    }
+
+    /// The Hardness macro moves the one parameter the exciter in use reads (the engine's
+    /// pulse reads the strike duration, the custom mallet its hardness, a factory mallet its
+    /// head), over that parameter's soft-to-hard direction.
+    #[test]
+    fn hardness_moves_what_the_exciter_reads() {
+        use ParamId::*;
+        let cases = [
+            (0.0, 0.0, Striker::Pulse, StrikeDuration),
+            (0.0, 3.0, Striker::Pulse, StrikeDuration),
+            (1.0, 0.0, Striker::CustomMallet, MalletHardness),
+            (1.0, 4.0, Striker::FactoryMallet, MalletHead),
+        ];
+        for (exciter, head, striker, id) in cases {
+            assert_eq!(Striker::from_values(exciter, head), striker);
+            let (name, _, targets) = &macros(false, striker)[0];
+            assert_eq!(*name, "Hardness");
+            assert_eq!(targets.len(), 1);
+            assert_eq!(targets[0].id, id);
+        }
+        // Soft to hard: a shorter pulse, a harder felt, a later head (metal last).
+        let at = |s: Striker, t: f32| macros(false, s)[0].2[0].value(t);
+        assert!(at(Striker::Pulse, 1.0) < at(Striker::Pulse, 0.0));
+        assert_eq!(
+            (
+                at(Striker::CustomMallet, 0.0),
+                at(Striker::CustomMallet, 1.0)
+            ),
+            (0.0, 1.0)
+        );
+        let heads = noether_core::engine::MALLET_HEAD_NAMES;
+        assert_eq!(heads[at(Striker::FactoryMallet, 0.0) as usize], "soft-felt");
+        assert_eq!(heads[at(Striker::FactoryMallet, 1.0) as usize], "metal");
+        // The strings' Hardness is the pluck position whatever the plate exciter says.
+        for striker in STRIKERS {
+            assert_eq!(macros(true, striker)[0].2[0].id, PluckPosition);
+        }
     }
 }
