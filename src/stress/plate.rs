@@ -90,6 +90,7 @@ impl PlateCase {
             sim_rate: self.fs,
             scheme: self.scheme,
             sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
+            closure: 0.0,
             tensor_storage: Default::default(),
             damping: self.damping,
             excitation: Excitation::Strike {

@@ -60,6 +60,7 @@ pub fn plate_spec(
         sim_rate: 48_000.0,
         scheme,
         sav_relaxation: noether_core::models::plate::spec::default_sav_relaxation(),
+        closure: 0.0,
         tensor_storage: Default::default(),
         damping,
         excitation,

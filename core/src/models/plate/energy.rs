@@ -30,6 +30,9 @@ pub struct PlateEnergy {
     /// `√(2U(q))` ([`crate::models::sav_relaxation`]; J, negative where its budget returned some
     /// of the step's losses; 0 for the other schemes).
     pub relaxed: f64,
+    /// The part of [`Self::dissipated`] removed by the truncation closure, the damping of the
+    /// top modes that takes a loud strike's pile-up ([`super::closure`]; J, ≥ 0; 0 when it is off).
+    pub closure: f64,
     /// Cumulative work done by the external force since the initial state,
     /// `Σ_m h F(m) Σ_s Φ_s δ_{t.} q_s(m)` (J).
     pub work: f64,

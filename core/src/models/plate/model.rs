@@ -10,6 +10,7 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::closure::{TruncationClosure, DEFAULT_LAYER, DEFAULT_TIME_CONSTANT, MAX_STRENGTH};
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
@@ -112,6 +113,9 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     hand: Hand,
     /// The static rest shape (flat unless [`Self::set_rest_shape`] set one).
     rest: RestShape,
+    /// The damping of the top modes that takes a loud strike's pile-up ([`super::closure`];
+    /// off unless [`Self::set_closure`] turned it on).
+    closure: TruncationClosure,
     energy: PlateEnergy,
     /// Physical energy dissipated in the last step (J; damping and hand): the SAV
     /// relaxation's budget ([`crate::models::sav_relaxation`]).
@@ -221,6 +225,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             }),
             hand: Hand::new(nf),
             rest: RestShape::flat(nf, np),
+            closure: TruncationClosure::new(nf),
             energy: PlateEnergy::default(),
             step_dissipated: 0.0,
             track_energy: true,
@@ -241,6 +246,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.outputs.fill(0.0);
         self.hand.force = 0.0;
+        self.closure.reset();
+        self.write_closure_coefficients();
         self.energy = PlateEnergy::default();
         self.step_dissipated = 0.0;
         self.diverged = false;
@@ -322,6 +329,45 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         self.sav.as_ref().map(|s| s.relaxation)
     }
 
+    /// Sets the strength `β` of the truncation closure ([`super::closure`]: the top half-octave
+    /// of modes is damped when a loud strike's cascade piles energy up there; the calibrated
+    /// strength is [`super::closure::DEFAULT_STRENGTH`]; 0, the default, turns it off and the
+    /// model is the plain truncation, bit for bit). Its averages are forgotten. Errors: `β`
+    /// outside 0 to [`MAX_STRENGTH`] (the model is unchanged). Any thread that owns the model;
+    /// no allocation on success, `O(N_Φ)`.
+    pub fn set_closure(&mut self, strength: f64) -> Result<(), ParamError> {
+        if !(0.0..=MAX_STRENGTH).contains(&strength) {
+            return Err(ParamError::new(
+                "closure",
+                strength,
+                format!("0 to {MAX_STRENGTH} (0 = off)"),
+            ));
+        }
+        self.closure
+            .configure(strength, DEFAULT_LAYER, DEFAULT_TIME_CONSTANT);
+        self.closure.reset();
+        self.closure.retune(&self.omega, &self.omega_sq, self.h);
+        self.write_closure_coefficients();
+        Ok(())
+    }
+
+    /// The truncation closure's state (strength, pile-up ratio, rate). Any thread that owns
+    /// the model.
+    pub fn closure(&self) -> &TruncationClosure {
+        &self.closure
+    }
+
+    /// Writes the closure's damping of the coming step into the layer's `a`, `1/a`, `d`.
+    fn write_closure_coefficients(&mut self) {
+        self.closure.write_coefficients(
+            &self.c_eff,
+            self.h,
+            &mut self.a,
+            &mut self.inv_a,
+            &mut self.d,
+        );
+    }
+
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;
     /// [`Self::energy`] is then stale). Audio thread.
     pub fn set_energy_tracking(&mut self, on: bool) {
@@ -356,8 +402,21 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         if !all_finite(&self.q_next) || !force.is_finite() {
             return Err(self.fail());
         }
+        let closure = if self.closure.is_on() {
+            let n = self.q.len();
+            let absorbed = self.closure.observe(
+                (&self.q_next[..n], &self.q[..n], &self.q_prev[..n]),
+                &self.omega_sq,
+                self.rho_h,
+                self.h,
+            );
+            self.write_closure_coefficients();
+            absorbed
+        } else {
+            0.0
+        };
         if self.track_energy {
-            self.update_power(force);
+            self.update_power(force, closure);
         }
         let n = self.q.len();
         let (qn, qc, qp) = (&self.q_next[..n], &self.q[..n], &self.q_prev[..n]);

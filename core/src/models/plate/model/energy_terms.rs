@@ -6,10 +6,10 @@ use crate::models::plate::coupling::ModalCoupling;
 use crate::models::plate::lanes::lane_sums;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
-    /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`), and the
-    /// energy the SAV relaxation removed (counted as dissipated; the physical part is kept as
-    /// the next step's relaxation budget).
-    pub(super) fn update_power(&mut self, force: f64) {
+    /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`), with
+    /// `closure` (J) the truncation closure's part, and the energy the SAV relaxation removed
+    /// (counted as dissipated; the physical part is kept as the next step's relaxation budget).
+    pub(super) fn update_power(&mut self, force: f64, closure: f64) {
         let before = self.energy.dissipated;
         let (h, rho_h, n) = (self.h, self.rho_h, self.q.len());
         let (qn, qp) = (&self.q_next[..n], &self.q_prev[..n]);
@@ -20,7 +20,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             [c[s] * d * d, fw[s] * d]
         });
         let inv_2h = 0.5 / h;
-        self.energy.dissipated += h * rho_h * diss * inv_2h * inv_2h;
+        self.energy.dissipated += h * rho_h * diss * inv_2h * inv_2h + closure;
+        self.energy.closure += closure;
         self.energy.work += h * force * pw * inv_2h;
         if self.hand.c > 0.0 {
             self.hand_power();
@@ -56,6 +57,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             self.energy.dissipated = 0.0;
             self.energy.hand_dissipated = 0.0;
             self.energy.relaxed = 0.0;
+            self.energy.closure = 0.0;
             self.energy.work = 0.0;
             self.energy.step = 0;
         }
