@@ -53,7 +53,7 @@ fn quantity(id: ParamId) -> Quantity {
         Polyphony => Quantity::Count("voice", "voices"),
         Threads => Quantity::Threads,
         Density => Quantity::Plain("kg/m³"),
-        DampingScale => Quantity::Plain("×"),
+        DampingScale | Closure => Quantity::Plain("×"),
         DampingC0 => Quantity::Plain("1/s"),
         StrikeForce | Tension => Quantity::Plain("N"),
         BridgeCurvature => Quantity::Plain("1/m"),

@@ -8,6 +8,7 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod always_playable;
 mod cascade;
+mod closure;
 mod engine;
 mod engine_alloc;
 mod engine_hand;

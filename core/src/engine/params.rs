@@ -250,6 +250,8 @@ params! {
         "Circular plates: a raised centre boss (a gong's boss, a cymbal's bell) of this height in plate thicknesses, w0 = height cos^2(pi r / 2b) inside the boss radius b; 0: none. Added to the dome.";
     BossRadius, "boss_radius", "Boss radius", "", 0.05, 0.6, 0.2, F, true,
         "Circular plates: the boss's base radius b as a fraction of the plate's radius (the boss's projection on the modes is rebuilt).";
+    Closure, "closure", "Cascade closure", "", 0.0, 4.0, 0.0, F, false,
+        "Plates: how strongly the top half-octave of simulated modes is damped when a loud strike's cascade piles energy up there, as the modes above the band would carry it away (1: the strength calibrated on the crash cymbal against its resolved model; 0: the plain truncation).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

@@ -120,6 +120,7 @@ const SECTIONS: [Section; 7] = {
                 Modes,
                 InPlaneModes,
                 BandLimit,
+                Closure,
                 SimRate,
                 Scheme,
                 Polyphony,
@@ -156,7 +157,8 @@ pub fn relevant(id: ParamId, c: Choices) -> bool {
     match id {
         YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
         Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
-        | PickupLeftAngle | PickupRightAngle | InPlaneModes | Scheme | BandLimit | Exciter => plate,
+        | PickupLeftAngle | PickupRightAngle | InPlaneModes | Scheme | BandLimit | Exciter
+        | Closure => plate,
         StrikeDuration | StrikeForce => plate && c.exciter == 0,
         MalletHead | MalletSpeed => mallet,
         // A factory head brings its own mass and law.
