@@ -1,7 +1,8 @@
 //! Engine CPU per second of 48 kHz audio for each factory preset with 1, 4 and 8 sounding
 //! voices. One iteration renders 0.1 s (4 800 samples in 256-sample blocks) after re-striking
 //! every voice, so the voices keep sounding; criterion's time per iteration × 10 is the CPU
-//! time per second of audio (real time on one core needs < 1 s).
+//! time per second of audio (real time on one core needs < 1 s). `crash-plain` is the crash
+//! preset with its cascade closure off: the closure's cost is `crash` over `crash-plain`.
 //!
 //! Measured in CPU time of the benchmark thread (`CLOCK_THREAD_CPUTIME_ID`), not wall time:
 //! on the shared 2-core machine other builds take the core away for part of an iteration,
@@ -165,6 +166,14 @@ fn bench(c: &mut Criterion<Cpu>) {
             params.set(ParamId::Polyphony, voices as f32).unwrap();
             let keys = chord(&params, voices);
             bench_strikes(&mut g, stem, voices, params, &keys);
+            // The crash without its cascade closure: the closure's cost is the ratio.
+            if stem == "crash" {
+                let params = Arc::new(SharedParams::new());
+                preset.apply(&params).unwrap();
+                params.set(ParamId::Polyphony, voices as f32).unwrap();
+                params.set(ParamId::Closure, 0.0).unwrap();
+                bench_strikes(&mut g, "crash-plain", voices, params, &keys);
+            }
         }
     }
     g.finish();
