@@ -33,7 +33,7 @@ use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::modal::CouplingTensor;
 use crate::models::plate::basis::PlateBasis;
 use crate::models::plate::spec::Position;
-use crate::models::plate::{closure, PlateModel, RaisedCosine};
+use crate::models::plate::{PlateModel, RaisedCosine};
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
@@ -253,9 +253,9 @@ impl PlateVoice {
         self.own_pickups = [None; 2];
         self.set_frame(angle);
         self.models[self.tier].reset();
-        // The parameter scales the calibrated strength; in range by the parameter table (0 to
-        // 4 times it), so this cannot fail (and does not allocate).
-        let closure = p.values.get(ParamId::Closure) as f64 * closure::DEFAULT_STRENGTH;
+        // A multiple of the calibrated strength, in range by the parameter table (0 to 4), so
+        // this cannot fail (and does not allocate).
+        let closure = p.values.get(ParamId::Closure) as f64;
         let _ = self.models[self.tier].set_closure(closure);
         self.strike = None;
         self.strike_step = 0;

@@ -66,8 +66,10 @@ pub const PILE_UP_THRESHOLD: f64 = 0.1;
 /// damps the top mode at a tenth of its angular frequency.
 pub const DEFAULT_STRENGTH: f64 = 0.1;
 
-/// The largest closure strength `β` a scene or preset may set (40 times the calibrated one).
-pub const MAX_STRENGTH: f64 = 4.0;
+/// The largest strength a scene or preset may set, as a multiple of [`DEFAULT_STRENGTH`] (the
+/// unit of [`super::PlateModel::set_closure`], the scene's `plate.closure` and the engine's
+/// `closure` parameter).
+pub const MAX_STRENGTH: f64 = 40.0;
 
 /// The truncation closure's state and scratch (see the module doc). Owned by the plate model
 /// (audio thread).
@@ -125,11 +127,6 @@ impl TruncationClosure {
         self.strength > 0.0
     }
 
-    /// `β` (see the module doc).
-    pub fn strength(&self) -> f64 {
-        self.strength
-    }
-
     /// `γ` (1/s) the top mode gets in the coming step.
     pub fn rate(&self) -> f64 {
         self.rate
@@ -145,14 +142,10 @@ impl TruncationClosure {
         }
     }
 
-    /// The damping rate `w_s γ` (1/s) mode `s` gets in the coming step.
-    pub fn mode_rate(&self, s: usize) -> f64 {
-        self.weights[s] * self.rate
-    }
-
-    /// Sets `β` (0 to [`MAX_STRENGTH`]), `r₀` (0 to 1, exclusive) and `τ` (s, > 0); the caller
-    /// validated them. The layer follows at the next [`Self::retune`]. Any thread that owns the
-    /// closure; no allocation.
+    /// Sets `β` (0 to [`MAX_STRENGTH`] times [`DEFAULT_STRENGTH`]), `r₀` (0 to 1, exclusive)
+    /// and `τ` (s, > 0); the caller validated them. The averages and the rate are forgotten;
+    /// the layer follows at the next [`Self::retune`]. Any thread that owns the closure; no
+    /// allocation.
     pub fn configure(&mut self, strength: f64, layer: f64, time_constant: f64) {
         self.strength = strength;
         self.layer = layer;
@@ -162,8 +155,9 @@ impl TruncationClosure {
 
     /// Recomputes the layer, the band below and the weights from the modes' physical angular
     /// frequencies `omega` (rad/s; not the exact scheme's warped `ω̃`, which crowds the top
-    /// modes together below `2/h`) and the step `h` (s), after the coefficients changed; the averages and the rate are kept (a
-    /// pitch bend does not restart the cascade). Audio thread: no allocation, `O(N_Φ)`.
+    /// modes together below `2/h`), their `ω̃²` (`omega_sq`) and the step `h` (s), after the
+    /// coefficients changed; the averages and the rate are kept (a pitch bend does not restart
+    /// the cascade). Audio thread: no allocation, `O(N_Φ)`.
     pub fn retune(&mut self, omega: &[f64], omega_sq: &[f64], h: f64) {
         let top = omega.iter().fold(0.0f64, |m, &w| m.max(w));
         let lower = self.layer * top;
@@ -321,7 +315,7 @@ mod tests {
         assert!(x(falling) < PILE_UP_THRESHOLD);
         assert_eq!(c.rate(), 0.0);
         // Capped at a quarter of the top angular frequency.
-        c.configure(MAX_STRENGTH, 0.5, 1e-9);
+        c.configure(MAX_STRENGTH * DEFAULT_STRENGTH, 0.5, 1e-9);
         c.retune(&omega, &w2, h);
         c.observe((&piled, &piled, &piled), &w2, 1.0, h);
         assert_eq!(c.rate(), MAX_RATE_RATIO * 2000.0);

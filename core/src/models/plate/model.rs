@@ -10,7 +10,9 @@
 use std::fmt;
 use std::sync::Arc;
 
-use super::closure::{TruncationClosure, DEFAULT_LAYER, DEFAULT_TIME_CONSTANT, MAX_STRENGTH};
+use super::closure::{
+    TruncationClosure, DEFAULT_LAYER, DEFAULT_STRENGTH, DEFAULT_TIME_CONSTANT, MAX_STRENGTH,
+};
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{Pickup, PickupKind};
@@ -329,12 +331,12 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         self.sav.as_ref().map(|s| s.relaxation)
     }
 
-    /// Sets the strength `β` of the truncation closure ([`super::closure`]: the top half-octave
-    /// of modes is damped when a loud strike's cascade piles energy up there; the calibrated
-    /// strength is [`super::closure::DEFAULT_STRENGTH`]; 0, the default, turns it off and the
-    /// model is the plain truncation, bit for bit). Its averages are forgotten. Errors: `β`
-    /// outside 0 to [`MAX_STRENGTH`] (the model is unchanged). Any thread that owns the model;
-    /// no allocation on success, `O(N_Φ)`.
+    /// Sets the strength of the truncation closure ([`super::closure`]: the top half-octave of
+    /// modes is damped when a loud strike's cascade piles energy up there) as a multiple of the
+    /// calibrated `β` ([`DEFAULT_STRENGTH`]): 1 is calibrated; 0, the default, turns it off and
+    /// the model is the plain truncation, bit for bit. Its averages are forgotten. Errors:
+    /// `strength` outside 0 to [`MAX_STRENGTH`] (the model is unchanged). Any thread that owns
+    /// the model; no allocation on success, `O(N_Φ)`.
     pub fn set_closure(&mut self, strength: f64) -> Result<(), ParamError> {
         if !(0.0..=MAX_STRENGTH).contains(&strength) {
             return Err(ParamError::new(
@@ -343,18 +345,14 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 format!("0 to {MAX_STRENGTH} (0 = off)"),
             ));
         }
-        self.closure
-            .configure(strength, DEFAULT_LAYER, DEFAULT_TIME_CONSTANT);
-        self.closure.reset();
+        self.closure.configure(
+            strength * DEFAULT_STRENGTH,
+            DEFAULT_LAYER,
+            DEFAULT_TIME_CONSTANT,
+        );
         self.closure.retune(&self.omega, &self.omega_sq, self.h);
         self.write_closure_coefficients();
         Ok(())
-    }
-
-    /// The truncation closure's state (strength, pile-up ratio, rate). Any thread that owns
-    /// the model.
-    pub fn closure(&self) -> &TruncationClosure {
-        &self.closure
     }
 
     /// Writes the closure's damping of the coming step into the layer's `a`, `1/a`, `d`.

@@ -321,8 +321,9 @@ pub struct PlateSpec {
     pub sav_relaxation: f64,
     /// The truncation closure's strength as a multiple of the calibrated one (0 to 40; default
     /// 0, the plain truncation): how strongly the top half-octave of modes is damped when a
-    /// loud strike's cascade piles energy up there ([`super::closure`]; the engine's `closure`
-    /// parameter, whose default is 1). Its energy is counted as dissipation.
+    /// loud strike's cascade piles energy up there ([`super::closure`]; the unit of the
+    /// engine's `closure` parameter, which the crash preset sets to 1). Its energy is counted as
+    /// dissipation.
     #[serde(default)]
     pub closure: f64,
     /// Storage of the coupling tensor's values: `"double"` (default, `f64`) or `"single"`
@@ -393,8 +394,12 @@ impl PlateSpec {
         PLATE_SIM_RATE.check("plate.sim_rate", self.sim_rate)?;
         crate::models::ranges::SAV_RELAXATION_TIME
             .check("plate.sav_relaxation", self.sav_relaxation)?;
-        let max_closure = super::closure::MAX_STRENGTH / super::closure::DEFAULT_STRENGTH;
-        check_closed("plate.closure", self.closure, 0.0, max_closure)?;
+        check_closed(
+            "plate.closure",
+            self.closure,
+            0.0,
+            super::closure::MAX_STRENGTH,
+        )?;
         if self.symmetry == Symmetry::StrikeMirror && !self.shape.is_circular() {
             return Err(ParamError::new(
                 "plate.symmetry",

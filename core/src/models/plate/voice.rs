@@ -191,9 +191,7 @@ impl PlateVoice {
         let mut model = PlateModel::new(&params, basis.coupling.clone(), strike_weights, pickups)
             .map_err(scoped)?;
         model.set_sav_relaxation(SavRelaxation::from_scene(scene.sav_relaxation, model.h()));
-        model
-            .set_closure(scene.closure * super::closure::DEFAULT_STRENGTH)
-            .map_err(scoped)?;
+        model.set_closure(scene.closure).map_err(scoped)?;
         if !scene.imperfection.is_empty() && !linear_only {
             let rest =
                 rest_projection::project(&scene.imperfection, &basis, scene.shape, a, aspect);
