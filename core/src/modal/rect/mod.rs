@@ -45,7 +45,7 @@ mod legendre;
 mod transverse;
 
 pub use coupling::CouplingTriplets;
-pub use transverse::lowest_modes as transverse_modes;
+pub use transverse::{lowest_modes as transverse_modes, phi_value as transverse_phi};
 
 use crate::error::{check_closed, ParamError};
 use crate::modal::basis::{Coordinates, ModalBasis, UnitPoint};

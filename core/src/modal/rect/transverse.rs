@@ -43,6 +43,6 @@ pub fn lowest_modes(aspect: f64, n_phi: usize) -> (Vec<(u32, u32)>, Vec<f64>) {
 }
 
 /// `Φ_{m,n}` at fractional position `(xi, eta) ∈ [0, 1]²` (`x = xi`, `y = eta · aspect`).
-pub(crate) fn phi_value(aspect: f64, (m, n): (u32, u32), xi: f64, eta: f64) -> f64 {
+pub fn phi_value(aspect: f64, (m, n): (u32, u32), xi: f64, eta: f64) -> f64 {
     2.0 / aspect.sqrt() * (f64::from(m) * PI * xi).sin() * (f64::from(n) * PI * eta).sin()
 }

@@ -99,12 +99,14 @@ pub mod closure;
 pub mod coupling;
 pub mod energy;
 pub mod excitation;
+pub mod extension;
 pub mod half_step;
 pub mod hand;
 mod lanes;
 mod linalg;
 pub mod mallet;
 pub mod mallet_heads;
+pub mod mode_list;
 pub mod model;
 pub mod params;
 pub mod rest_projection;
@@ -121,6 +123,7 @@ pub use energy::PlateEnergy;
 pub use excitation::{
     damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
 };
+pub use extension::{BandExtension, ExtensionEnergy};
 pub use half_step::{StepBoard, SPLIT_MIN_ENTRIES};
 pub use hand::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};

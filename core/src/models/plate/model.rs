@@ -118,6 +118,9 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     /// The damping of the top modes that takes a loud strike's pile-up ([`super::closure`];
     /// off unless [`Self::set_closure`] turned it on).
     closure: TruncationClosure,
+    /// Energy the closure absorbed since the last [`Self::take_absorbed`] (J): what the band
+    /// above the simulation ([`super::extension`]) receives.
+    absorbed: f64,
     energy: PlateEnergy,
     /// Physical energy dissipated in the last step (J; damping and hand): the SAV
     /// relaxation's budget ([`crate::models::sav_relaxation`]).
@@ -228,6 +231,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             hand: Hand::new(nf),
             rest: RestShape::flat(nf, np),
             closure: TruncationClosure::new(nf),
+            absorbed: 0.0,
             energy: PlateEnergy::default(),
             step_dissipated: 0.0,
             track_energy: true,
@@ -250,6 +254,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         self.hand.force = 0.0;
         self.closure.reset();
         self.write_closure_coefficients();
+        self.absorbed = 0.0;
         self.energy = PlateEnergy::default();
         self.step_dissipated = 0.0;
         self.diverged = false;
@@ -366,6 +371,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         );
     }
 
+    /// Returns the energy the truncation closure absorbed since the last call (J, ≥ 0; counted
+    /// whether or not the energy is tracked) and starts the count again: the band above the
+    /// simulation receives it ([`super::extension`]). Any thread that owns the model; O(1).
+    pub fn take_absorbed(&mut self) -> f64 {
+        std::mem::take(&mut self.absorbed)
+    }
+
     /// Turns the per-step energy bookkeeping on (default) or off (saves `O(N_Φ)` work per step;
     /// [`Self::energy`] is then stale). Audio thread.
     pub fn set_energy_tracking(&mut self, on: bool) {
@@ -409,6 +421,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 self.h,
             );
             self.write_closure_coefficients();
+            self.absorbed += absorbed;
             absorbed
         } else {
             0.0

@@ -1,0 +1,430 @@
+//! The band above the simulation: linear modes of the same plate above its truncation, fed
+//! with exactly the energy the truncation closure takes from the top of the simulated band.
+//!
+//! # Why this form
+//!
+//! The closure ([`super::closure`]) removes the energy a loud strike's cascade carries past the
+//! cutoff, as the modes left out would take it. In the resolved plate that energy does not
+//! vanish: it lives on in those modes (whose damping at 7-20 kHz leaves them ringing for
+//! seconds on a bronze cymbal) and is what makes a crash shimmer above its truncated band. The
+//! extension is those modes, linear (the cascade's energy there is spread over so many modes
+//! that each one's amplitude is small), with the plate's own frequencies, pickups and damping
+//! law, and a source: every step the energy the closure absorbed is given to them, so the
+//! energy that leaves the simulated band is the energy that arrives above it, exactly.
+//!
+//! **Injection.** Mode `e` advances by the exact scheme of the plate's linear part
+//! (`(1 + c̃h/2) q⁺ - (2 - h²ω̃²) q + (1 - c̃h/2) q⁻ = h² p`, [`super::params`]), whose discrete
+//! energy `𝔢 = (ρh/2)[(δ_{t-}q)² + ω̃² q(n) q(n-1)]` changes by the work
+//! `ρh p (q⁺ - q⁻)/2` of the modal force `p` (per unit mass) less the damping's
+//! `h ρh c̃ (δ_{t.}q)²`. With `q⁺ = q_f + h² p / a` (`q_f` the free update) the work is the
+//! quadratic `(ρh h²/2a) p² + (ρh (q_f - q⁻)/2) p`; setting it to the mode's share `W_e` gives
+//! two real roots for any `W_e ≥ 0`, and the smaller one, taken without cancellation as
+//! `p = 2W_e / (β + sgn β √(β² + 4αW_e))`, pushes along the mode's motion (a mode at rest gets
+//! an alternating sign, so the modes start with no common phase). The energy put in is then
+//! `W_e` to round-off, whatever the state.
+//!
+//! **Spectrum.** Mode `e` receives the share `s_e ∝ (ω_e / ω_0)^{-α}` ([`SPECTRAL_SLOPE`])
+//! of the absorbed energy (`ω_0` the lowest extension mode): the cascade front reaches the
+//! lower modes first and most. `α` is calibrated against the crash cymbal with its band
+//! resolved to 20 kHz (docs/ACCURACY.md).
+//!
+//! **Cost.** `O(N_e)` per step and no coupling: the square root of the injection is taken for
+//! one mode in [`STRIDE`] per step, in turn (each mode is fed every `STRIDE` steps with what
+//! its share accumulated), so the bank costs a few multiply-adds per mode and step.
+//!
+//! Lifecycle: [`BandExtension::new`] allocates (worker thread); [`BandExtension::retune`],
+//! [`BandExtension::run`] and [`BandExtension::reset`] run on the audio thread (or a voice
+//! job) without allocation.
+
+use super::params::linear_coefficients;
+
+/// The exponent `α` of the shares `s_e ∝ (ω_e/ω_0)^{-α}` (see the module doc), calibrated on
+/// the crash cymbal against its 20 kHz reference (docs/ACCURACY.md).
+pub const SPECTRAL_SLOPE: f64 = 1.0;
+
+/// The top of the band above (Hz): the limit of hearing.
+pub const CEILING_HZ: f64 = 20_000.0;
+
+/// The most modes a band above lists (a plate whose basis tops out low would otherwise need
+/// thousands to reach [`CEILING_HZ`]: it stops here).
+pub const MAX_MODES: usize = 2048;
+
+/// The highest frequency a band above at rate `fs` (Hz) sounds: [`CEILING_HZ`], or 0.45 `fs`
+/// below 44.4 kHz (under Nyquist with the margin the voices' pickups keep).
+pub fn ceiling_hz(fs: f64) -> f64 {
+    CEILING_HZ.min(0.45 * fs)
+}
+
+/// How many modes of a plate reach [`CEILING_HZ`] when its first `n` modes reach `top_hz`:
+/// a plate's modal density is constant in frequency (Weyl's law), so the count scales with
+/// the frequency (5 % margin); at least `n`, at most [`MAX_MODES`].
+pub fn mode_count(n: usize, top_hz: f64) -> usize {
+    let wanted = if top_hz > 0.0 {
+        (n as f64 * CEILING_HZ / top_hz * 1.05).ceil()
+    } else {
+        0.0
+    };
+    (wanted.min(MAX_MODES as f64) as usize).max(n)
+}
+
+/// Modes are fed in turn, one in `STRIDE` per step (see the module doc).
+pub const STRIDE: usize = 8;
+
+/// Energy terms of the extension (J), copied out by value ([`BandExtension::energy`]).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ExtensionEnergy {
+    /// Stored energy `Σ_e 𝔢_e` at the current step (J).
+    pub stored: f64,
+    /// Cumulative energy received from the closure since the last reset (J).
+    pub received: f64,
+    /// The part of [`Self::received`] not yet given to the modes (J, ≥ 0).
+    pub pending: f64,
+    /// Cumulative energy the modes' damping removed (J, ≥ 0).
+    pub dissipated: f64,
+}
+
+impl ExtensionEnergy {
+    /// `stored + pending + dissipated - received`: zero to round-off from a reset on.
+    pub fn balance(&self) -> f64 {
+        self.stored + self.pending + self.dissipated - self.received
+    }
+}
+
+/// A bank of linear plate modes above the simulated band, fed by the closure (module doc).
+///
+/// Struct-of-arrays state and coefficients, sized for `capacity` modes at [`Self::new`];
+/// [`Self::retune`] uses the first `n ≤ capacity`. Owned by one voice (audio thread or the
+/// voice job that runs it).
+#[derive(Debug, Clone)]
+pub struct BandExtension {
+    /// Modes in use.
+    n: usize,
+    /// Time step (s) and surface density (kg/m²) of the last retune.
+    h: f64,
+    rho_h: f64,
+    /// `1/a_e`, `b_e = 2 - h²ω̃_e²`, `d_e = 1 - c̃_e h/2`, `ω̃_e²`, `c̃_e`.
+    inv_a: Vec<f64>,
+    b: Vec<f64>,
+    d: Vec<f64>,
+    omega_sq: Vec<f64>,
+    c_eff: Vec<f64>,
+    /// `STRIDE s_e / Σ s`: what mode `e` receives, per joule of budget, when its turn comes
+    /// (every [`STRIDE`] steps).
+    share: Vec<f64>,
+    /// `Σ share` over the modes of each turn.
+    demand: [f64; STRIDE],
+    /// Pickup weights `Φ_e(x_p)` (1/m) of the two pickups, `capacity` each.
+    weights: [Vec<f64>; 2],
+    /// `h² p_e / a_e` of the modes fed this step (zero otherwise).
+    kick: Vec<f64>,
+    q: Vec<f64>,
+    q_prev: Vec<f64>,
+    /// The pickups' velocities (backward difference, m/s) after the last step.
+    outputs: [f64; 2],
+    /// Which turn the next step feeds.
+    turn: usize,
+    energy: ExtensionEnergy,
+}
+
+impl BandExtension {
+    /// An empty extension with room for `capacity` modes and two pickups (left and right).
+    /// Worker thread: allocates.
+    pub fn new(capacity: usize) -> Self {
+        let z = || vec![0.0; capacity];
+        Self {
+            n: 0,
+            h: 1.0,
+            rho_h: 1.0,
+            inv_a: z(),
+            b: z(),
+            d: z(),
+            omega_sq: z(),
+            c_eff: z(),
+            share: z(),
+            demand: [0.0; STRIDE],
+            weights: [z(), z()],
+            kick: z(),
+            q: z(),
+            q_prev: z(),
+            outputs: [0.0; 2],
+            turn: 0,
+            energy: ExtensionEnergy::default(),
+        }
+    }
+
+    /// Modes the extension can hold.
+    pub fn capacity(&self) -> usize {
+        self.q.len()
+    }
+
+    /// Modes in use.
+    pub fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Whether no mode is in use.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Sets the modes: physical angular frequencies `omega` (rad/s, increasing, each with
+    /// `ω h < π`: the caller keeps them under Nyquist), damping `damping` (1/s, ≥ 0), surface
+    /// density `rho_h` (kg/m²), step `h` (s). Uses the first `omega.len()` slots (at most
+    /// the capacity; extra modes are ignored). The state is kept (a pitch bend retunes a
+    /// ringing extension); the pickups keep their weights. Audio thread: no allocation,
+    /// `O(N_e)` transcendental evaluations.
+    pub fn retune(&mut self, omega: &[f64], damping: &[f64], rho_h: f64, h: f64) {
+        let n = omega.len().min(damping.len()).min(self.capacity());
+        let lowest = omega.first().copied().unwrap_or(1.0).max(f64::MIN_POSITIVE);
+        let mut total = 0.0;
+        for e in 0..n {
+            let k = linear_coefficients(omega[e], damping[e], h, true);
+            let a = 1.0 + 0.5 * k.damping * h;
+            self.inv_a[e] = 1.0 / a;
+            self.b[e] = 2.0 - h * h * k.omega_sq;
+            self.d[e] = 1.0 - 0.5 * k.damping * h;
+            self.omega_sq[e] = k.omega_sq;
+            self.c_eff[e] = k.damping;
+            self.share[e] = (omega[e] / lowest).powf(-SPECTRAL_SLOPE);
+            total += self.share[e];
+        }
+        let scale = if total > 0.0 {
+            STRIDE as f64 / total
+        } else {
+            0.0
+        };
+        self.demand = [0.0; STRIDE];
+        for (e, s) in self.share[..n].iter_mut().enumerate() {
+            *s *= scale;
+            self.demand[e % STRIDE] += *s;
+        }
+        // Slots left behind keep no motion (a retune to fewer modes drops their energy from
+        // the stored sum; callers retune before a note's first step, or keep the count).
+        for e in n..self.n {
+            self.q[e] = 0.0;
+            self.q_prev[e] = 0.0;
+            self.kick[e] = 0.0;
+        }
+        self.n = n;
+        self.h = h;
+        self.rho_h = rho_h;
+    }
+
+    /// The weights of pickup `c` (0 left, 1 right; 1/m) over the modes in use, to be written
+    /// by the caller.
+    pub fn pickup_weights_mut(&mut self, c: usize) -> &mut [f64] {
+        &mut self.weights[c][..self.n]
+    }
+
+    /// Puts the modes at rest and clears the energy terms. No allocation.
+    pub fn reset(&mut self) {
+        for v in [&mut self.q, &mut self.q_prev, &mut self.kick] {
+            v.fill(0.0);
+        }
+        self.outputs = [0.0; 2];
+        self.turn = 0;
+        self.energy = ExtensionEnergy::default();
+    }
+
+    /// Receives `energy` (J, ≥ 0; other values are ignored) from the closure and runs
+    /// `frames` steps, giving the pending energy to the modes evenly over them; after each
+    /// step calls `out(k, [left, right])` with the pickups' velocities (m/s). Audio thread:
+    /// no allocation, `O(N_e)` per step.
+    pub fn run(&mut self, energy: f64, frames: usize, mut out: impl FnMut(usize, [f64; 2])) {
+        if energy > 0.0 && energy.is_finite() {
+            self.energy.received += energy;
+            self.energy.pending += energy;
+        }
+        for k in 0..frames {
+            let budget = self.energy.pending / (frames - k) as f64;
+            self.step(budget);
+            out(k, self.outputs);
+        }
+    }
+
+    /// One step, giving `budget` (J) to the modes of this step's turn.
+    #[inline]
+    fn step(&mut self, budget: f64) {
+        let n = self.n;
+        let (h, rho_h) = (self.h, self.rho_h);
+        let turn = self.turn;
+        self.turn = (turn + 1) % STRIDE;
+        if budget > 0.0 && turn < n {
+            // The turn's demand, scaled down if the pending energy cannot cover it.
+            let demand = self.demand[turn];
+            let per_share = budget.min(self.energy.pending / demand.max(f64::MIN_POSITIVE));
+            let mut given = 0.0;
+            let mut sign = 1.0;
+            for e in (turn..n).step_by(STRIDE) {
+                let w = per_share * self.share[e];
+                if w <= 0.0 {
+                    continue;
+                }
+                let free = (self.b[e] * self.q[e] - self.d[e] * self.q_prev[e]) * self.inv_a[e];
+                let alpha = 0.5 * rho_h * h * h * self.inv_a[e];
+                let beta = 0.5 * rho_h * (free - self.q_prev[e]);
+                let root = (beta * beta + 4.0 * alpha * w).sqrt();
+                let s = if beta > 0.0 {
+                    1.0
+                } else if beta < 0.0 {
+                    -1.0
+                } else {
+                    sign = -sign;
+                    sign
+                };
+                let p = 2.0 * w / (beta + s * root);
+                if p.is_finite() {
+                    self.kick[e] = h * h * p * self.inv_a[e];
+                    given += w;
+                }
+            }
+            self.energy.pending = (self.energy.pending - given).max(0.0);
+        }
+        let inv_h = 1.0 / h;
+        let (b, d, inv_a, kick, c) = (
+            &self.b[..n],
+            &self.d[..n],
+            &self.inv_a[..n],
+            &self.kick[..n],
+            &self.c_eff[..n],
+        );
+        let [w0, w1] = &self.weights;
+        let (w0, w1) = (&w0[..n], &w1[..n]);
+        let (q, qp) = (&mut self.q[..n], &mut self.q_prev[..n]);
+        // Four independent partial sums per reduction (the compiler keeps them in SIMD
+        // registers), added in a fixed order: the same bits every run.
+        let (mut o0, mut o1, mut lost) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
+        let full = n - n % 4;
+        let quads = q[..full]
+            .chunks_exact_mut(4)
+            .zip(qp[..full].chunks_exact_mut(4))
+            .zip(b[..full].chunks_exact(4).zip(d[..full].chunks_exact(4)))
+            .zip(
+                inv_a[..full]
+                    .chunks_exact(4)
+                    .zip(kick[..full].chunks_exact(4)),
+            )
+            .zip(c[..full].chunks_exact(4))
+            .zip(w0[..full].chunks_exact(4).zip(w1[..full].chunks_exact(4)));
+        for (((((q, qp), (b, d)), (inv_a, kick)), c), (w0, w1)) in quads {
+            for j in 0..4 {
+                let (x, xp) = (q[j], qp[j]);
+                let next = (b[j] * x - d[j] * xp) * inv_a[j] + kick[j];
+                let (v, vc) = (next - x, next - xp);
+                qp[j] = x;
+                q[j] = next;
+                o0[j] += w0[j] * v;
+                o1[j] += w1[j] * v;
+                lost[j] += c[j] * vc * vc;
+            }
+        }
+        for e in full..n {
+            let (x, xp) = (q[e], qp[e]);
+            let next = (b[e] * x - d[e] * xp) * inv_a[e] + kick[e];
+            let (v, vc) = (next - x, next - xp);
+            qp[e] = x;
+            q[e] = next;
+            o0[0] += w0[e] * v;
+            o1[0] += w1[e] * v;
+            lost[0] += c[e] * vc * vc;
+        }
+        let total = |a: [f64; 4]| (a[0] + a[2]) + (a[1] + a[3]);
+        let (o0, o1, lost) = (total(o0), total(o1), total(lost));
+        self.outputs = [o0 * inv_h, o1 * inv_h];
+        let lost = 0.25 * inv_h * inv_h * lost;
+        if budget > 0.0 && turn < n {
+            for e in (turn..n).step_by(STRIDE) {
+                self.kick[e] = 0.0;
+            }
+        }
+        self.energy.dissipated += h * rho_h * lost;
+    }
+
+    /// The energy terms (J); the stored energy is summed now (`O(N_e)`). Any thread that owns
+    /// the extension.
+    pub fn energy(&self) -> ExtensionEnergy {
+        let inv_h = 1.0 / self.h;
+        let stored: f64 = (0..self.n)
+            .map(|e| {
+                let v = (self.q[e] - self.q_prev[e]) * inv_h;
+                0.5 * self.rho_h * (v * v + self.omega_sq[e] * self.q[e] * self.q_prev[e])
+            })
+            .sum();
+        ExtensionEnergy {
+            stored,
+            ..self.energy
+        }
+    }
+
+    /// The modal displacements `q_e(n)` of the modes in use.
+    pub fn q(&self) -> &[f64] {
+        &self.q[..self.n]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bank(n: usize, fs: f64, c: f64) -> BandExtension {
+        let mut x = BandExtension::new(n);
+        let omega: Vec<f64> = (0..n)
+            .map(|e| std::f64::consts::TAU * (7000.0 + 40.0 * e as f64))
+            .collect();
+        x.retune(&omega, &vec![c; n], 6.88, 1.0 / fs);
+        for (e, w) in x.pickup_weights_mut(0).iter_mut().enumerate() {
+            *w = if e % 3 == 0 { 2.0 } else { -1.3 };
+        }
+        x
+    }
+
+    /// Every joule received is stored, pending or dissipated, to round-off, through feeding
+    /// and free decay, with and without damping.
+    #[test]
+    fn the_energy_received_is_accounted_to_round_off() {
+        for c in [0.0, 40.0] {
+            let mut x = bank(300, 48_000.0, c);
+            for chunk in 0..400 {
+                let e = if chunk < 200 {
+                    1e-3 * (chunk % 7) as f64
+                } else {
+                    0.0
+                };
+                x.run(e, 64, |_, _| {});
+                let en = x.energy();
+                assert!(
+                    en.balance().abs() <= 1e-12 * en.received,
+                    "chunk {chunk}, c = {c}: balance {:e} of {:e} received",
+                    en.balance(),
+                    en.received
+                );
+            }
+            let en = x.energy();
+            assert!(en.pending < 1e-15 * en.received, "{en:?}");
+            if c == 0.0 {
+                assert!((en.stored / en.received - 1.0).abs() < 1e-12, "{en:?}");
+            } else {
+                assert!(en.dissipated > 0.5 * en.received, "{en:?}");
+            }
+        }
+    }
+
+    /// The shares follow `(ω/ω_0)^{-α}`: after feeding a lossless bank, the energy of each
+    /// turn's modes is in that ratio.
+    #[test]
+    fn the_energy_is_shared_by_the_spectral_slope() {
+        let mut x = bank(64, 48_000.0, 0.0);
+        x.run(1.0, 64 * STRIDE, |_, _| {});
+        let h = x.h;
+        let energy = |e: usize| {
+            let v = (x.q[e] - x.q_prev[e]) / h;
+            0.5 * x.rho_h * (v * v + x.omega_sq[e] * x.q[e] * x.q_prev[e])
+        };
+        let w = |e: usize| 7000.0 + 40.0 * e as f64;
+        for e in [9, 17, 40, 63] {
+            let want = (w(e) / w(1)).powf(-SPECTRAL_SLOPE);
+            let got = energy(e) / energy(1);
+            assert!((got / want - 1.0).abs() < 0.02, "mode {e}: {got} vs {want}");
+        }
+    }
+}
