@@ -91,6 +91,7 @@ impl PlateCase {
             scheme: self.scheme,
             sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
             closure: 0.0,
+            band_above: false,
             tensor_storage: Default::default(),
             damping: self.damping,
             excitation: Excitation::Strike {

@@ -13,6 +13,7 @@ mod coupling_block_kernels;
 mod modal_circular;
 mod modal_rect;
 mod plate_backbone;
+mod plate_band_above;
 mod plate_closure;
 mod plate_hand;
 mod plate_mallet;

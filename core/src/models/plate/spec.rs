@@ -326,6 +326,13 @@ pub struct PlateSpec {
     /// dissipation.
     #[serde(default)]
     pub closure: f64,
+    /// The band above the simulation (default `false`): the plate's linear modes from the top
+    /// of the basis up to 20 kHz (or 0.45 of `sim_rate`), sounding with exactly the energy the
+    /// closure absorbs ([`super::extension`]; silent while the closure is off or idle). At
+    /// most two pickups, both velocity. Its energy joins the report's terms (stored, and the closure's share
+    /// of the dissipation moved to the band's own losses).
+    #[serde(default)]
+    pub band_above: bool,
     /// Storage of the coupling tensor's values: `"double"` (default, `f64`) or `"single"`
     /// (every value rounded to `f32` once; faster kernels, the energy still conserved to
     /// round-off; see [`crate::modal::TensorStorage`]).
@@ -400,6 +407,24 @@ impl PlateSpec {
             0.0,
             super::closure::MAX_STRENGTH,
         )?;
+        let pickups = self.effective_pickups();
+        if self.band_above && pickups.len() > 2 {
+            return Err(ParamError::new(
+                "plate.band_above",
+                "true",
+                format!(
+                    "false with {} pickups (the band above has two outputs)",
+                    pickups.len()
+                ),
+            ));
+        }
+        if self.band_above && pickups.iter().any(|p| p.quantity != Quantity::Velocity) {
+            return Err(ParamError::new(
+                "plate.band_above",
+                "true",
+                "false with a displacement pickup (the band above sounds as velocity)",
+            ));
+        }
         if self.symmetry == Symmetry::StrikeMirror && !self.shape.is_circular() {
             return Err(ParamError::new(
                 "plate.symmetry",

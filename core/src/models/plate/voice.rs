@@ -9,6 +9,8 @@
 
 use super::basis::{BasisKey, ModalCache};
 use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
+use super::extension::{ceiling_hz, mode_count, BandExtension};
+use super::mode_list::ModeList;
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
 use super::{rest_projection, LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
@@ -32,6 +34,8 @@ enum ForceSignal {
 /// Built on a worker (or the CLI's main) thread; `process` runs on the render or audio thread.
 pub struct PlateVoice {
     model: PlateModel<CouplingTensor>,
+    /// The band above the simulation (`plate.band_above`), fed by the closure.
+    above: Option<BandExtension>,
     force: ForceSignal,
     /// Steps taken since the start.
     step: u64,
@@ -77,29 +81,22 @@ impl PlateVoice {
         } else {
             0.0
         };
-        let phi_at = |s: usize, p: &Position| {
-            let in_frame = if scene.shape.is_circular() {
-                Position {
-                    angle: Some(p.angle.unwrap_or(0.0) - theta0),
-                    ..*p
-                }
-            } else {
-                *p
-            };
-            basis.phi_at(s, &in_frame)
-        };
+        let phi_at = |s: usize, p: &Position| basis.phi_at(s, &frame_position(scene, theta0, p));
         let (lambda2, zeta4) = (basis.lambda2(), basis.zeta4());
         let cache = basis.cache.clone();
         let modal_seconds = start.elapsed().as_secs_f64();
         let a = scene.length_scale();
         let omega_scale = (scene.rigidity() / scene.surface_density()).sqrt() / (a * a);
         let omega: Vec<f64> = lambda2.iter().map(|l2| l2 * omega_scale).collect();
-        let damping = match scene.damping {
-            Damping::None => vec![0.0; omega.len()],
-            Damping::Power { a, b, c0 } => damping_law(&omega, a, b, c0)?,
-            Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
-            Damping::T60 { seconds } => vec![2.0 * 1000f64.ln() / seconds; omega.len()],
+        let damping_of = |omega: &[f64]| -> Result<Vec<f64>, ParamError> {
+            Ok(match scene.damping {
+                Damping::None => vec![0.0; omega.len()],
+                Damping::Power { a, b, c0 } => damping_law(omega, a, b, c0)?,
+                Damping::Q { q } => omega.iter().map(|w| w / q).collect(),
+                Damping::T60 { seconds } => vec![2.0 * 1000f64.ln() / seconds; omega.len()],
+            })
         };
+        let damping = damping_of(&omega)?;
         let scheme = scene.scheme;
         let params = PlateParams {
             omega: omega.clone(),
@@ -153,8 +150,8 @@ impl PlateVoice {
                 ForceSignal::None,
             ),
         };
-        let pickups = scene
-            .effective_pickups()
+        let pickup_points = scene.effective_pickups();
+        let pickups = pickup_points
             .iter()
             .map(|p| {
                 let kind = match p.quantity {
@@ -207,6 +204,34 @@ impl PlateVoice {
             model.launch_mallet(m, speed).map_err(scoped)?;
         }
         let two_pi = std::f64::consts::TAU;
+        // The band above: the listed modes past the basis, under the ceiling, with the
+        // scene's damping law and pickups (in the basis's frame).
+        let above = if scene.band_above {
+            let top_hz = omega.iter().fold(0.0f64, |m, &w| m.max(w)) / two_pi;
+            let list = ModeList::build(&key, mode_count(omega.len(), top_hz));
+            let ceiling = two_pi * ceiling_hz(scene.sim_rate);
+            let omega_above: Vec<f64> = list.lambda2[omega.len().min(list.len())..]
+                .iter()
+                .map(|l2| l2 * omega_scale)
+                .take_while(|&w| w < ceiling)
+                .collect();
+            let mut x = BandExtension::new(omega_above.len());
+            x.retune(
+                &omega_above,
+                &damping_of(&omega_above)?,
+                scene.surface_density(),
+                1.0 / scene.sim_rate,
+            );
+            for (c, p) in pickup_points.iter().enumerate().take(2) {
+                let at = frame_position(scene, theta0, &p.at);
+                for (e, w) in x.pickup_weights_mut(c).iter_mut().enumerate() {
+                    *w = list.phi_at(omega.len() + e, &at) / a;
+                }
+            }
+            Some(x)
+        } else {
+            None
+        };
         let info = PlateDetails {
             n_phi: omega.len(),
             n_psi: if linear_only { 0 } else { zeta4.len() },
@@ -225,6 +250,7 @@ impl PlateVoice {
         };
         Ok(Self {
             model,
+            above,
             force,
             step: 0,
             fs: scene.sim_rate,
@@ -240,6 +266,11 @@ impl PlateVoice {
     /// The underlying model.
     pub fn model(&self) -> &PlateModel<CouplingTensor> {
         &self.model
+    }
+
+    /// The band above the simulation (`plate.band_above`), if on.
+    pub fn band_above(&self) -> Option<&BandExtension> {
+        self.above.as_ref()
     }
 
     /// Shares each SAV step between two jobs run by `join`
@@ -288,6 +319,13 @@ impl RenderSource for PlateVoice {
             for (c, &y) in out.iter_mut().zip(self.model.outputs()) {
                 c[i] = y;
             }
+            if let Some(x) = &mut self.above {
+                x.run(self.model.take_absorbed(), 1, |_, y| {
+                    for (c, y) in out.iter_mut().zip(y) {
+                        c[i] += y;
+                    }
+                });
+            }
         }
     }
 
@@ -304,6 +342,13 @@ impl RenderSource for PlateVoice {
             e.dissipated += me.dissipated;
             e.work += me.launched - me.work_on_plate;
         }
+        if let Some(x) = &self.above {
+            // The band above holds (stored or pending) what the closure passed on, less its
+            // own losses: the closure's share of the plate's dissipation becomes the band's.
+            let xe = x.energy();
+            e.linear += xe.stored + xe.pending;
+            e.dissipated += xe.dissipated - xe.received;
+        }
         e
     }
 
@@ -317,6 +362,19 @@ impl RenderSource for PlateVoice {
 
     fn details(&self) -> ModelDetails {
         ModelDetails::Plate(self.info.clone())
+    }
+}
+
+/// `p` in the basis's frame: a circular strike-mirror basis has its strike at angle 0, so
+/// every angle is taken relative to the strike's `theta0` (0 otherwise).
+fn frame_position(scene: &PlateSpec, theta0: f64, p: &Position) -> Position {
+    if scene.shape.is_circular() {
+        Position {
+            angle: Some(p.angle.unwrap_or(0.0) - theta0),
+            ..*p
+        }
+    } else {
+        *p
     }
 }
 
