@@ -317,7 +317,7 @@ pub fn group_of(id: ParamId) -> &'static str {
         PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
         Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
         | ContactStiffness | ContactAlpha => "String and bridge",
-        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure => "Quality",
+        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove => "Quality",
         _ => "Tuning and output",
     }
 }

@@ -5,6 +5,7 @@
 use super::files::OutputArgs;
 use clap::Args;
 use noether::engine::{load_scala, KeyTuning};
+use noether::engine::{ModelKind, ParamId};
 use noether::render::midi::load_midi;
 use noether::render::play::{
     notes_timeline, parse_note, play, root_key, NoteSpec, PlaySettings, Timeline,
@@ -161,13 +162,19 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         let stem = wav
             .file_stem()
             .map_or("play".into(), |s| s.to_string_lossy().into_owned());
-        // The band the notes simulate: up to 1.25x their highest mode (log axis).
+        // The band the notes simulate: up to 1.25x their highest mode (log axis); to Nyquist
+        // when a plate's band above the simulation may sound (closure and band above on).
+        let above = found.preset.values().is_ok_and(|v| {
+            ModelKind::from_params(&v).is_plate()
+                && v.get(ParamId::Closure) > 0.0
+                && v.index_of(ParamId::BandAbove) == 1
+        });
         let top = r
             .notes
             .iter()
             .filter_map(|n| n.top_mode_hz)
             .fold(0.0f32, f32::max);
-        let max_freq = if top > 0.0 {
+        let max_freq = if top > 0.0 && !above {
             1.25 * f64::from(top)
         } else {
             f64::INFINITY

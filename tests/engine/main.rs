@@ -7,6 +7,7 @@
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod always_playable;
+mod band_above;
 mod cascade;
 mod closure;
 mod engine;

@@ -279,6 +279,7 @@ impl Engine {
                 v.reset();
             }
             b.resampler.reset();
+            b.above.reset();
         }
         if let Some((old, _)) = self.retiring.take() {
             self.retire(old);

@@ -94,7 +94,7 @@ pub(crate) fn run_bank(
     let lanes = &*b.lanes;
     // Results of late jobs that have finished since: bookkeeping, samples dropped.
     for i in 0..n {
-        if let Some((ok, _, _)) = lanes.take(i) {
+        if let Some((ok, ..)) = lanes.take(i) {
             // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
             settle(unsafe { &mut *base.add(i) }, ok, t);
         }
@@ -106,12 +106,12 @@ pub(crate) fn run_bank(
         if let Some(v) = unsafe { voice_at(base, lanes, i) } {
             if v.active {
                 assist |= v.offers_step_halves();
-                lanes.queue(i, v, m, b.norm);
+                lanes.queue(i, v, (m, left.len()), b.norm);
                 queued |= 1 << i;
             }
         }
     }
-    if queued == 0 && b.resampler.is_silent() {
+    if queued == 0 && b.resampler.is_silent() && b.above.is_silent() {
         b.resampler.advance_silent(left.len(), m);
         left.fill(0.0);
         right.fill(0.0);
@@ -129,9 +129,10 @@ pub(crate) fn run_bank(
     let (sl, sr) = (&mut b.sim_l[..m], &mut b.sim_r[..m]);
     sl.fill(0.0);
     sr.fill(0.0);
+    b.above.clear(left.len());
     for i in (0..n).filter(|i| queued >> i & 1 == 1) {
         match lanes.take(i) {
-            Some((ok, vl, vr)) => {
+            Some((ok, [vl, vr], above)) => {
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 let v = unsafe { &mut *base.add(i) };
                 if ok {
@@ -144,6 +145,7 @@ pub(crate) fn run_bank(
                         sl[k] += gl * vl[k];
                         sr[k] += gr * vr[k];
                     }
+                    b.above.add((gl, gr), above);
                 }
                 settle(v, ok, t);
             }
@@ -152,12 +154,13 @@ pub(crate) fn run_bank(
     }
     b.resampler.push(sl, sr);
     b.resampler.produce(left, right);
+    b.above.mix_into(left, right);
     let hold = lanes.any_busy();
     if !hold {
         // A late job may have ended since its lane was looked at: settle it now, so the
         // bank's voices all rest with the audio thread between chunks.
         for i in 0..n {
-            if let Some((ok, _, _)) = lanes.take(i) {
+            if let Some((ok, ..)) = lanes.take(i) {
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 settle(unsafe { &mut *base.add(i) }, ok, t);
             }

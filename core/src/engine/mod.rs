@@ -105,6 +105,7 @@
 //! output passes [`VOICE_CEILING`]; when no voice sounds and the resampler history is zero, the
 //! bank costs only a buffer fill. Note to pitch, release and the physical mapping: [`voice`].
 
+mod above_mix;
 mod audio;
 mod bank;
 mod events;

@@ -252,6 +252,8 @@ params! {
         "Circular plates: the boss's base radius b as a fraction of the plate's radius (the boss's projection on the modes is rebuilt).";
     Closure, "closure", "Cascade closure", "", 0.0, 4.0, 0.0, F, false,
         "Plates: how strongly the top half-octave of simulated modes is damped when a loud strike's cascade piles energy up there, as the modes above the band would carry it away (1: the strength calibrated on the crash cymbal against its resolved model; 0: the plain truncation).";
+    BandAbove, "band_above", "Band above", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES }, false,
+        "Plates: the linear modes of the plate above its simulated band, up to 20 kHz (or 0.45 of the host rate), sounding with exactly the energy the cascade closure absorbs (silent while the closure is off or idle). Off: nothing sounds above the band.";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

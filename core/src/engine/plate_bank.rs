@@ -12,11 +12,13 @@ use super::kinds::{Material, ModelKind};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{
-    hand_radius, tier_ladder, Frame, PlateData, PlateVoice, Voice, VoiceModel, HEARD_FRACTION,
+    hand_radius, tier_ladder, AboveModes, Frame, PlateData, PlateVoice, Voice, VoiceModel,
+    HEARD_FRACTION,
 };
 use crate::error::ParamError;
 use crate::modal::TensorStorage;
 use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
+use crate::models::plate::extension::mode_count;
 use crate::models::plate::rest_projection::project;
 use crate::models::plate::rest_shape::ShapePart;
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
@@ -24,7 +26,7 @@ use crate::models::plate::{
     LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme, StepBoard,
     SPLIT_MIN_ENTRIES,
 };
-use std::f64::consts::PI;
+use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
 
 /// Largest `ω h` of a mode at the band limit for the scheme without an exact linear part
@@ -145,11 +147,35 @@ fn unit_shapes(
     )
 }
 
-/// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate` (see the module doc).
+/// The left and right pickup positions of `frame` in its own convention, for the band above:
+/// `(r_p, 0)` in a mirror frame (rotated per note), the points themselves otherwise.
+fn above_points(kind: ModelKind, frame: &Frame) -> [Position; 2] {
+    match frame {
+        Frame::Mirror { pickup_radii, .. } => pickup_radii.map(|r| position(kind, r, 0.0)),
+        Frame::Fixed { pickup_points, .. } => pickup_points.map(|(r, a)| position(kind, r, a)),
+    }
+}
+
+/// How many modes the band above lists for the basis `basis` of the plate of `v`: as many as
+/// reach the ceiling at the root key ([`mode_count`]). Worker thread.
+fn above_count(basis: &PlateBasis, v: &ParamValues) -> usize {
+    let m = Material::from_params(v);
+    let (a, h) = (
+        v.get(ParamId::Size) as f64,
+        v.get(ParamId::Thickness) as f64,
+    );
+    let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - m.poisson * m.poisson));
+    let scale = (d / (m.density * h)).sqrt() / (a * a);
+    let top = basis.lambda2().last().copied().unwrap_or(0.0) * scale;
+    mode_count(basis.n_phi(), top / TAU)
+}
+
+/// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate`, their bands above at
+/// `host_rate` (see the module doc).
 pub(crate) fn plate_voices(
     kind: ModelKind,
     v: &ParamValues,
-    sim_rate: f64,
+    (sim_rate, host_rate): (f64, f64),
     voices_n: usize,
     cache: &mut ModalCache,
     board: &Arc<StepBoard>,
@@ -167,11 +193,14 @@ pub(crate) fn plate_voices(
     let basis = cache.basis(&key)?;
     let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
     let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
+    let frame = frame(kind, &basis, v);
+    let above = AboveModes::build(&key, above_count(&basis, v), above_points(kind, &frame));
     let data = Arc::new(PlateData {
         lambda2: basis.lambda2().to_vec(),
         zeta4: basis.zeta4().to_vec(),
         linear: n_psi == 0,
-        frame: frame(kind, &basis, v),
+        frame,
+        above,
         snapshot: snapshot_rows(kind, &basis),
         poisson: m.poisson,
         tiers: tiers.clone(),
@@ -231,6 +260,7 @@ pub(crate) fn plate_voices(
             models,
             data.clone(),
             sim_rate,
+            host_rate,
         )))));
     }
     Ok(voices)

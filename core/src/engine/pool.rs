@@ -81,6 +81,10 @@ pub fn in_voice_job() -> bool {
     IN_JOB_LOOP.try_with(|c| c.get()).unwrap_or(false)
 }
 
+/// A finished job's result: whether the voice stayed finite and under the ceiling, its
+/// simulation-rate left and right output, and its band above's (host rate).
+pub(crate) type LaneOutput<'a> = (bool, [&'a [f32]; 2], [&'a [f32]; 2]);
+
 /// One voice's job slot: its state, the job's parameters, and the voice's output buffers for
 /// one chunk. Owned by a bank (allocated at build).
 pub(crate) struct Lane {
@@ -98,9 +102,13 @@ pub(crate) struct Lane {
     sounding: AtomicBool,
     /// Left and right output (simulation rate, `max_in` samples each).
     buf: UnsafeCell<[Box<[f32]>; 2]>,
+    /// Host-rate samples of the job's band above the simulation.
+    above_len: AtomicUsize,
+    /// Left and right output of the band above (host rate, `max_out` samples each).
+    above: UnsafeCell<[Box<[f32]>; 2]>,
 }
 
-// SAFETY: the only non-`Sync` field is `buf`, accessed mutably by one thread at a time: the
+// SAFETY: the only non-`Sync` fields are `buf` and `above`, each accessed mutably by one thread at a time: the
 // participant that moved `state` from QUEUED to RUNNING (until its release store of DONE),
 // otherwise the audio thread (which reads it only after an acquire load of DONE or IDLE and
 // writes nothing into it). See the module doc's state diagram.
@@ -113,8 +121,9 @@ pub(crate) struct Lanes {
 }
 
 impl Lanes {
-    /// `voices` lanes with buffers of `max_in` samples (builder thread; allocates).
-    pub fn new(voices: usize, max_in: usize) -> Box<Lanes> {
+    /// `voices` lanes with buffers of `max_in` simulation-rate and `max_out` host-rate samples
+    /// (builder thread; allocates).
+    pub fn new(voices: usize, max_in: usize, max_out: usize) -> Box<Lanes> {
         // The chunk loop keeps a bit mask of queued lanes in a u64.
         assert!(voices <= 64, "at most 64 voices per bank, not {voices}");
         let lanes = (0..voices)
@@ -126,6 +135,8 @@ impl Lanes {
                 ok: AtomicBool::new(true),
                 sounding: AtomicBool::new(false),
                 buf: UnsafeCell::new([vec![0.0; max_in].into(), vec![0.0; max_in].into()]),
+                above_len: AtomicUsize::new(0),
+                above: UnsafeCell::new([vec![0.0; max_out].into(), vec![0.0; max_out].into()]),
             })
             .collect();
         Box::new(Lanes { lanes })
@@ -167,13 +178,15 @@ impl Lanes {
             .count()
     }
 
-    /// Queues voice `voice` (lane `i`, at rest) for `len` simulation samples at output
-    /// `gain` (audio thread). The caller gives up the voice until [`Self::take`] returns it.
-    pub fn queue(&self, i: usize, voice: *mut Voice, len: usize, gain: f64) {
+    /// Queues voice `voice` (lane `i`, at rest) for `len` simulation samples and `above_len`
+    /// host-rate samples of its band above, at output `gain` (audio thread). The caller gives
+    /// up the voice until [`Self::take`] returns it.
+    pub fn queue(&self, i: usize, voice: *mut Voice, (len, above_len): (usize, usize), gain: f64) {
         let l = &self.lanes[i];
         debug_assert_eq!(l.state.load(Ordering::Relaxed), IDLE);
         l.voice.store(voice, Ordering::Relaxed);
         l.len.store(len, Ordering::Relaxed);
+        l.above_len.store(above_len, Ordering::Relaxed);
         l.gain.store(gain.to_bits(), Ordering::Relaxed);
         l.state.store(QUEUED, Ordering::Release);
     }
@@ -190,6 +203,7 @@ impl Lanes {
                 .is_ok()
             {
                 let len = l.len.load(Ordering::Relaxed);
+                let above_len = l.above_len.load(Ordering::Relaxed);
                 let gain = f64::from_bits(l.gain.load(Ordering::Relaxed));
                 let v = l.voice.load(Ordering::Relaxed);
                 // SAFETY: the successful QUEUED → RUNNING exchange makes this thread the only
@@ -197,13 +211,18 @@ impl Lanes {
                 // acquire pairs with `queue`'s release, so `voice` and `len` are this job's.
                 // The voice pointer was derived by the audio thread from the bank's voice list
                 // for this job, and the bank outlives the job (it leaves the audio thread only
-                // when the pool is quiescent). `len` ≤ the buffers' length (`max_in`).
+                // when the pool is quiescent). `len` ≤ the buffers' length (`max_in`), and
+                // `above_len` ≤ `max_out`.
                 let ok = unsafe {
                     let [bl, br] = &mut *l.buf.get();
                     let (bl, br) = (&mut bl[..len], &mut br[..len]);
                     bl.fill(0.0);
                     br.fill(0.0);
-                    (*v).run(bl, br, gain)
+                    let [al, ar] = &mut *l.above.get();
+                    let (al, ar) = (&mut al[..above_len], &mut ar[..above_len]);
+                    al.fill(0.0);
+                    ar.fill(0.0);
+                    (*v).run(bl, br, gain) && (*v).run_above(al, ar, gain)
                 };
                 l.ok.store(ok, Ordering::Relaxed);
                 l.state.store(DONE, Ordering::Release);
@@ -213,11 +232,12 @@ impl Lanes {
         ran
     }
 
-    /// Takes lane `i`'s result if its job is done (audio thread): `Some((ok, left, right))`,
+    /// Takes lane `i`'s result if its job is done (audio thread): `Some((ok, [left, right],
+    /// [above left, above right]))` (simulation rate, then the band above at the host rate),
     /// the lane back at rest and its voice back with the audio thread. The caller drops the
     /// slices before it queues lane `i` again (the audio thread's chunk loop does: it takes
     /// every result before it queues the next chunk).
-    pub fn take(&self, i: usize) -> Option<(bool, &[f32], &[f32])> {
+    pub fn take(&self, i: usize) -> Option<LaneOutput<'_>> {
         let l = &self.lanes[i];
         if l.state.load(Ordering::Acquire) != DONE {
             return None;
@@ -228,8 +248,15 @@ impl Lanes {
         // which it no longer touches the buffers; the lane is now IDLE, and only the audio
         // thread (the caller) can queue it again, which by this method's contract happens
         // after the returned slices are dropped. So no writer aliases this shared borrow.
+        let above_len = l.above_len.load(Ordering::Relaxed);
         let [bl, br] = unsafe { &*l.buf.get() };
-        Some((l.ok.load(Ordering::Relaxed), &bl[..len], &br[..len]))
+        // SAFETY: as for `buf`.
+        let [al, ar] = unsafe { &*l.above.get() };
+        Some((
+            l.ok.load(Ordering::Relaxed),
+            [&bl[..len], &br[..len]],
+            [&al[..above_len], &ar[..above_len]],
+        ))
     }
 }
 

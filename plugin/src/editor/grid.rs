@@ -121,6 +121,7 @@ const SECTIONS: [Section; 7] = {
                 InPlaneModes,
                 BandLimit,
                 Closure,
+                BandAbove,
                 SimRate,
                 Scheme,
                 Polyphony,
@@ -158,7 +159,7 @@ pub fn relevant(id: ParamId, c: Choices) -> bool {
         YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
         Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
         | PickupLeftAngle | PickupRightAngle | InPlaneModes | Scheme | BandLimit | Exciter
-        | Closure => plate,
+        | Closure | BandAbove => plate,
         StrikeDuration | StrikeForce => plate && c.exciter == 0,
         MalletHead | MalletSpeed => mallet,
         // A factory head brings its own mass and law.

@@ -24,6 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+mod above;
 mod hand;
 mod mallet;
 mod mapping;
@@ -40,6 +41,7 @@ use mapping::key_level_gain;
 pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
+pub(crate) use above::AboveModes;
 pub(crate) use hand::hand_radius;
 pub use hand::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
 pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
@@ -261,6 +263,17 @@ impl Voice {
             }
         }
         true
+    }
+
+    /// Runs the band above the simulation of a plate voice for `left.len()` host-rate samples
+    /// (after [`Self::run`] ran the chunk's simulation samples), adding `gain ·` its pickups;
+    /// `false` past [`super::VOICE_CEILING`]. Strings have none (O(1)). Audio thread or the
+    /// voice's job; no allocation.
+    pub fn run_above(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        match &mut self.model {
+            VoiceModel::Plate(pv) => pv.run_above(left, right, gain),
+            VoiceModel::String(_) => true,
+        }
     }
 
     /// The note's hand pressure on its model (a point damper, see [`HAND_T60`]): O(1), no

@@ -24,6 +24,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
+use super::above::{Above, AboveModes};
 use super::hand::hand_radius;
 use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
@@ -99,6 +100,8 @@ pub(crate) struct PlateData {
     pub tiers: Vec<(usize, usize)>,
     /// Band limit (Hz): a note keeps the modes up to it.
     pub band_hz: f64,
+    /// The plate's modes continued past the basis, for the band above ([`above`]).
+    pub above: AboveModes,
     /// The dome's rest shape per unit rise on the unit plate, every mode (dimensionless;
     /// `a_k = L h · dome · shape_dome_k`, [`shape`]).
     pub shape_dome: Vec<f64>,
@@ -172,13 +175,22 @@ pub(crate) struct PlateVoice {
     /// boss)` (m²) last set on each tier's model ([`shape`]).
     rest: Vec<f64>,
     rest_set: Vec<(f64, f64)>,
+    /// The band above the note's simulation ([`above`]).
+    above: Above,
 }
 
 impl PlateVoice {
-    /// Wraps the tier models (worker thread; allocates the scratch).
-    pub fn new(models: Vec<PlateModel<CouplingTensor>>, data: Arc<PlateData>, fs: f64) -> Self {
+    /// Wraps the tier models, the band above running at `host_rate` (Hz) (worker thread;
+    /// allocates the scratch).
+    pub fn new(
+        models: Vec<PlateModel<CouplingTensor>>,
+        data: Arc<PlateData>,
+        fs: f64,
+        host_rate: f64,
+    ) -> Self {
         let (nf, np) = (data.lambda2.len(), data.zeta4.len());
         let tiers_n = data.tiers.len();
+        let above = Above::new(&data.above, host_rate);
         Self {
             models,
             tier: 0,
@@ -202,6 +214,7 @@ impl PlateVoice {
             fs,
             rest: vec![0.0; nf],
             rest_set: vec![(0.0, 0.0); tiers_n],
+            above,
         }
     }
 
@@ -257,6 +270,8 @@ impl PlateVoice {
         // this cannot fail (and does not allocate).
         let closure = p.values.get(ParamId::Closure) as f64;
         let _ = self.models[self.tier].set_closure(closure);
+        self.above.reset();
+        self.above.on = p.values.index_of(ParamId::BandAbove) == 1;
         self.strike = None;
         self.strike_step = 0;
         self.mallet.drop_mallet();
@@ -436,12 +451,13 @@ impl PlateVoice {
             0.0
         };
         let (n, m) = self.data.tiers[self.tier];
+        // The release floor is capped at critical damping (c = 2ω): a heavier damping would
+        // make a low mode creep back slower (rate ω²/c).
+        let law = |w: f64| (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
         for (s, &l2) in self.data.lambda2.iter().enumerate().take(n) {
             let w = l2 * scale;
             self.omega[s] = w;
-            // The release floor is capped at critical damping (c = 2ω): a heavier damping
-            // would make a low mode creep back slower (rate ω²/c).
-            self.damping[s] = (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
+            self.damping[s] = law(w);
         }
         let a4 = a.powi(4);
         for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4).take(m) {
@@ -459,6 +475,7 @@ impl PlateVoice {
             )
             .is_ok();
         if ok {
+            self.retune_above(scale, law, a, rho_h);
             self.set_shape(v, a, h);
             self.size = a;
             self.rho_h = rho_h;
@@ -489,6 +506,7 @@ impl PlateVoice {
     /// Silences the voice (state at rest). No allocation.
     pub fn reset(&mut self) {
         self.models[self.tier].reset();
+        self.above.reset();
         self.strike = None;
         self.strike_step = 0;
         self.mallet.drop_mallet();
@@ -567,6 +585,7 @@ impl PlateVoice {
     }
 }
 
+mod above;
 mod hand;
 mod shape;
 

@@ -1,0 +1,84 @@
+//! The band above a plate voice's simulation, per note: the plate's linear modes from the top
+//! of the note's tier up to [`ceiling_hz`] of the host rate (data in
+//! [`crate::engine::voice::above`]), run at the host rate and fed with exactly the energy the tier's truncation closure absorbs
+//! ([`crate::models::plate::extension`]). Their frequencies, damping law and pickups are the
+//! note's own, continued past the tier; the pickups sit at the bank's radii (a note's own
+//! pickup radius moves only the simulated band).
+//!
+//! Threads: the audio thread or the voice's job, without allocation.
+
+use super::{Frame, PlateVoice, VOICE_CEILING};
+use crate::models::plate::extension::ceiling_hz;
+use std::f64::consts::TAU;
+
+impl PlateVoice {
+    /// The band above the note's tier: the listed modes from the tier's count on, under the
+    /// ceiling, with the note's `ω = λ² scale` and damping `law(ω)`, and pickups `Φ̂_e / a`
+    /// in the note's frame. Audio thread: O(N_e), no allocation.
+    pub(super) fn retune_above(
+        &mut self,
+        scale: f64,
+        law: impl Fn(f64) -> f64,
+        a: f64,
+        rho_h: f64,
+    ) {
+        let modes = &self.data.above;
+        let from = self.data.tiers[self.tier].0.min(modes.list.len());
+        let ceiling = TAU * ceiling_hz(self.above.host_rate);
+        let mut k = 0;
+        for &l2 in &modes.list.lambda2[from..] {
+            let w = l2 * scale;
+            if w >= ceiling {
+                break;
+            }
+            self.above.omega[k] = w;
+            self.above.damping[k] = law(w);
+            k += 1;
+        }
+        let h = 1.0 / self.above.host_rate;
+        let above = &mut self.above;
+        above
+            .bank
+            .retune(&above.omega[..k], &above.damping[..k], rho_h, h);
+        let inv_a = 1.0 / a;
+        for c in 0..2 {
+            let phi = &modes.pickups[c][from..from + k];
+            let w = above.bank.pickup_weights_mut(c);
+            match &self.data.frame {
+                Frame::Mirror { pickup_angles, .. } => {
+                    let d = pickup_angles[c] - self.angle;
+                    for (e, (w, &x)) in w.iter_mut().zip(phi).enumerate() {
+                        let n = modes.list.cosine_order(from + e).unwrap_or(0);
+                        *w = x * (f64::from(n) * d).cos() * inv_a;
+                    }
+                }
+                Frame::Fixed { .. } => {
+                    for (w, &x) in w.iter_mut().zip(phi) {
+                        *w = x * inv_a;
+                    }
+                }
+            }
+        }
+    }
+
+    /// Runs the band above for `left.len()` host-rate samples with the energy the closure
+    /// absorbed since the last call, adding `gain ·` its pickups; `false` past
+    /// [`VOICE_CEILING`]. Skipped (O(1)) while nothing was ever received or the band is off.
+    /// Audio thread or the voice's job; no allocation, O(N_e) per sample when it runs.
+    pub fn run_above(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        let absorbed = self.models[self.tier].take_absorbed();
+        let above = &mut self.above;
+        if !above.on || above.bank.is_empty() || (above.idle && absorbed <= 0.0) {
+            return true;
+        }
+        above.idle = false;
+        let mut ok = true;
+        above.bank.run(absorbed, left.len(), |k, o| {
+            let (a, b) = (gain * o[0], gain * o[1]);
+            ok &= a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING;
+            left[k] += a as f32;
+            right[k] += b as f32;
+        });
+        ok
+    }
+}
