@@ -2,7 +2,10 @@
 //! voices. One iteration renders 0.1 s (4 800 samples in 256-sample blocks) after re-striking
 //! every voice, so the voices keep sounding; criterion's time per iteration × 10 is the CPU
 //! time per second of audio (real time on one core needs < 1 s). `crash-plain` is the crash
-//! preset with its cascade closure off: the closure's cost is `crash` over `crash-plain`.
+//! preset with its cascade closure off: the closure's cost is `crash` over `crash-plain`;
+//! `crash-no-above` keeps the closure but not the band above the simulation (the band's cost
+//! is `crash` over `crash-no-above`; compare one voice: with more, the bands run in the voice
+//! pool's jobs, partly on workers this thread's clock does not see).
 //!
 //! Measured in CPU time of the benchmark thread (`CLOCK_THREAD_CPUTIME_ID`), not wall time:
 //! on the shared 2-core machine other builds take the core away for part of an iteration,
@@ -173,6 +176,12 @@ fn bench(c: &mut Criterion<Cpu>) {
                 params.set(ParamId::Polyphony, voices as f32).unwrap();
                 params.set(ParamId::Closure, 0.0).unwrap();
                 bench_strikes(&mut g, "crash-plain", voices, params, &keys);
+                // With the closure but without the band above: the band's cost is the ratio.
+                let params = Arc::new(SharedParams::new());
+                preset.apply(&params).unwrap();
+                params.set(ParamId::Polyphony, voices as f32).unwrap();
+                params.set(ParamId::BandAbove, 0.0).unwrap();
+                bench_strikes(&mut g, "crash-no-above", voices, params, &keys);
             }
         }
     }

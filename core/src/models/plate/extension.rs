@@ -20,7 +20,7 @@
 //! quadratic `(ρh h²/2a) p² + (ρh (q_f - q⁻)/2) p`; setting it to the mode's share `W_e` gives
 //! two real roots for any `W_e ≥ 0`, and the smaller one, taken without cancellation as
 //! `p = 2W_e / (β + sgn β √(β² + 4αW_e))`, pushes along the mode's motion (a mode at rest gets
-//! an alternating sign, so the modes start with no common phase). The energy put in is then
+//! the sign of its index's parity, so the modes start with no common phase). The energy put in is then
 //! `W_e` to round-off, whatever the state.
 //!
 //! **Spectrum.** Mode `e` receives the share `s_e ∝ (ω_e / ω_0)^{-α}` ([`SPECTRAL_SLOPE`])
@@ -28,9 +28,11 @@
 //! lower modes first and most. `α` is calibrated against the crash cymbal with its band
 //! resolved to 20 kHz (docs/ACCURACY.md).
 //!
-//! **Cost.** `O(N_e)` per step and no coupling: the square root of the injection is taken for
-//! one mode in [`STRIDE`] per step, in turn (each mode is fed every `STRIDE` steps with what
-//! its share accumulated), so the bank costs a few multiply-adds per mode and step.
+//! **Cost.** `O(N_e)` per step and no coupling: the modes are split into [`STRIDE`]
+//! contiguous blocks and one block is fed per step, in turn (each mode every `STRIDE` steps
+//! with what its share accumulated), so the injection's square root and division are taken
+//! for `N_e / STRIDE` modes per step and the bank costs a few multiply-adds per mode and step
+//! (one sweep, 4-wide with AVX2 where the CPU has it, the same bits either way).
 //!
 //! Lifecycle: [`BandExtension::new`] allocates (worker thread); [`BandExtension::retune`],
 //! [`BandExtension::run`] and [`BandExtension::reset`] run on the audio thread (or a voice
@@ -67,7 +69,7 @@ pub fn mode_count(n: usize, top_hz: f64) -> usize {
     (wanted.min(MAX_MODES as f64) as usize).max(n)
 }
 
-/// Modes are fed in turn, one in `STRIDE` per step (see the module doc).
+/// Modes are fed in turn: `STRIDE` contiguous blocks, one per step (see the module doc).
 pub const STRIDE: usize = 8;
 
 /// Energy terms of the extension (J), copied out by value ([`BandExtension::energy`]).
@@ -123,6 +125,8 @@ pub struct BandExtension {
     outputs: [f64; 2],
     /// Which turn the next step feeds.
     turn: usize,
+    /// Whether the running CPU has AVX2 (the sweep then runs 4-wide, with the same bits).
+    avx2: bool,
     energy: ExtensionEnergy,
 }
 
@@ -148,6 +152,7 @@ impl BandExtension {
             q_prev: z(),
             outputs: [0.0; 2],
             turn: 0,
+            avx2: has_avx2(),
             energy: ExtensionEnergy::default(),
         }
     }
@@ -196,7 +201,7 @@ impl BandExtension {
         self.demand = [0.0; STRIDE];
         for (e, s) in self.share[..n].iter_mut().enumerate() {
             *s *= scale;
-            self.demand[e % STRIDE] += *s;
+            self.demand[turn_of(e, n)] += *s;
         }
         // Slots left behind keep no motion (a retune to fewer modes drops their energy from
         // the stored sum; callers retune before a note's first step, or keep the count).
@@ -249,95 +254,72 @@ impl BandExtension {
         let (h, rho_h) = (self.h, self.rho_h);
         let turn = self.turn;
         self.turn = (turn + 1) % STRIDE;
-        if budget > 0.0 && turn < n {
+        let (lo, hi) = turn_range(turn, n);
+        if budget > 0.0 && lo < hi {
             // The turn's demand, scaled down if the pending energy cannot cover it.
             let demand = self.demand[turn];
             let per_share = budget.min(self.energy.pending / demand.max(f64::MIN_POSITIVE));
-            let mut given = 0.0;
-            let mut sign = 1.0;
-            for e in (turn..n).step_by(STRIDE) {
-                let w = per_share * self.share[e];
-                if w <= 0.0 {
-                    continue;
-                }
-                let free = (self.b[e] * self.q[e] - self.d[e] * self.q_prev[e]) * self.inv_a[e];
-                let alpha = 0.5 * rho_h * h * h * self.inv_a[e];
-                let beta = 0.5 * rho_h * (free - self.q_prev[e]);
+            let (gain, half) = (h * h, 0.5 * rho_h);
+            let rows = self.q[lo..hi]
+                .iter()
+                .zip(&self.q_prev[lo..hi])
+                .zip(self.b[lo..hi].iter().zip(&self.d[lo..hi]))
+                .zip(self.inv_a[lo..hi].iter().zip(&self.share[lo..hi]))
+                .zip(self.kick[lo..hi].iter_mut().enumerate());
+            for ((((&x, &xp), (&b, &d)), (&inv_a, &share)), (k, kick)) in rows {
+                let w = per_share * share;
+                let free = (b * x - d * xp) * inv_a;
+                let alpha = half * gain * inv_a;
+                let beta = half * (free - xp);
                 let root = (beta * beta + 4.0 * alpha * w).sqrt();
-                let s = if beta > 0.0 {
+                // Along the motion; a mode at rest takes the sign of its index's parity, so
+                // the modes start with no common phase.
+                let sign = if beta > 0.0 {
                     1.0
                 } else if beta < 0.0 {
                     -1.0
                 } else {
-                    sign = -sign;
-                    sign
+                    1.0 - 2.0 * ((lo + k) & 1) as f64
                 };
-                let p = 2.0 * w / (beta + s * root);
-                if p.is_finite() {
-                    self.kick[e] = h * h * p * self.inv_a[e];
-                    given += w;
-                }
+                let p = 2.0 * w / (beta + sign * root);
+                *kick = if p.is_finite() { gain * p * inv_a } else { 0.0 };
             }
+            let given = per_share * demand;
             self.energy.pending = (self.energy.pending - given).max(0.0);
         }
         let inv_h = 1.0 / h;
-        let (b, d, inv_a, kick, c) = (
-            &self.b[..n],
-            &self.d[..n],
-            &self.inv_a[..n],
-            &self.kick[..n],
-            &self.c_eff[..n],
-        );
-        let [w0, w1] = &self.weights;
-        let (w0, w1) = (&w0[..n], &w1[..n]);
-        let (q, qp) = (&mut self.q[..n], &mut self.q_prev[..n]);
-        // Four independent partial sums per reduction (the compiler keeps them in SIMD
-        // registers), added in a fixed order: the same bits every run.
-        let (mut o0, mut o1, mut lost) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
-        let full = n - n % 4;
-        let quads = q[..full]
-            .chunks_exact_mut(4)
-            .zip(qp[..full].chunks_exact_mut(4))
-            .zip(b[..full].chunks_exact(4).zip(d[..full].chunks_exact(4)))
-            .zip(
-                inv_a[..full]
-                    .chunks_exact(4)
-                    .zip(kick[..full].chunks_exact(4)),
-            )
-            .zip(c[..full].chunks_exact(4))
-            .zip(w0[..full].chunks_exact(4).zip(w1[..full].chunks_exact(4)));
-        for (((((q, qp), (b, d)), (inv_a, kick)), c), (w0, w1)) in quads {
-            for j in 0..4 {
-                let (x, xp) = (q[j], qp[j]);
-                let next = (b[j] * x - d[j] * xp) * inv_a[j] + kick[j];
-                let (v, vc) = (next - x, next - xp);
-                qp[j] = x;
-                q[j] = next;
-                o0[j] += w0[j] * v;
-                o1[j] += w1[j] * v;
-                lost[j] += c[j] * vc * vc;
+        let (o0, o1, lost) = if self.avx2 {
+            // SAFETY: `avx2` is set only when the running CPU reports the feature.
+            #[cfg(target_arch = "x86_64")]
+            unsafe {
+                sweep_avx2(self.sweep_args(n))
             }
-        }
-        for e in full..n {
-            let (x, xp) = (q[e], qp[e]);
-            let next = (b[e] * x - d[e] * xp) * inv_a[e] + kick[e];
-            let (v, vc) = (next - x, next - xp);
-            qp[e] = x;
-            q[e] = next;
-            o0[0] += w0[e] * v;
-            o1[0] += w1[e] * v;
-            lost[0] += c[e] * vc * vc;
-        }
-        let total = |a: [f64; 4]| (a[0] + a[2]) + (a[1] + a[3]);
-        let (o0, o1, lost) = (total(o0), total(o1), total(lost));
+            #[cfg(not(target_arch = "x86_64"))]
+            sweep(self.sweep_args(n))
+        } else {
+            sweep(self.sweep_args(n))
+        };
         self.outputs = [o0 * inv_h, o1 * inv_h];
         let lost = 0.25 * inv_h * inv_h * lost;
-        if budget > 0.0 && turn < n {
-            for e in (turn..n).step_by(STRIDE) {
-                self.kick[e] = 0.0;
-            }
+        if budget > 0.0 && lo < hi {
+            self.kick[lo..hi].fill(0.0);
         }
         self.energy.dissipated += h * rho_h * lost;
+    }
+
+    /// The state and coefficients of the modes in use, for [`sweep`].
+    fn sweep_args(&mut self, n: usize) -> Sweep<'_> {
+        let [w0, w1] = &self.weights;
+        Sweep {
+            q: &mut self.q[..n],
+            qp: &mut self.q_prev[..n],
+            b: &self.b[..n],
+            d: &self.d[..n],
+            inv_a: &self.inv_a[..n],
+            kick: &self.kick[..n],
+            c: &self.c_eff[..n],
+            w: [&w0[..n], &w1[..n]],
+        }
     }
 
     /// The energy terms (J); the stored energy is summed now (`O(N_e)`). Any thread that owns
@@ -360,6 +342,107 @@ impl BandExtension {
     pub fn q(&self) -> &[f64] {
         &self.q[..self.n]
     }
+}
+
+/// The modes `[lo, hi)` fed at turn `k` of `n` modes: the `k`-th of [`STRIDE`] contiguous
+/// blocks (so the feed runs over contiguous memory).
+fn turn_range(k: usize, n: usize) -> (usize, usize) {
+    (k * n / STRIDE, (k + 1) * n / STRIDE)
+}
+
+/// The turn whose block holds mode `e` of `n` (the inverse of [`turn_range`]).
+fn turn_of(e: usize, n: usize) -> usize {
+    (0..STRIDE)
+        .find(|&k| {
+            let (lo, hi) = turn_range(k, n);
+            (lo..hi).contains(&e)
+        })
+        .unwrap_or(0)
+}
+
+/// What one sweep over the modes reads and writes (equal lengths).
+struct Sweep<'a> {
+    q: &'a mut [f64],
+    qp: &'a mut [f64],
+    b: &'a [f64],
+    d: &'a [f64],
+    inv_a: &'a [f64],
+    kick: &'a [f64],
+    c: &'a [f64],
+    w: [&'a [f64]; 2],
+}
+
+/// Whether the running CPU has AVX2 (x86-64 only).
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// One step of every mode: `q⁺ = (b q - d q⁻)/a + kick`, the state shifted, and the sums of
+/// the two pickups' `w (q⁺ - q)` and of the damping's `c (q⁺ - q⁻)²`, each over four
+/// independent partial sums (kept in SIMD registers) added in a fixed order: the same bits on
+/// every run and with or without [`sweep_avx2`]. Audio thread; no allocation.
+#[inline(always)]
+fn sweep(s: Sweep<'_>) -> (f64, f64, f64) {
+    let (mut o0, mut o1, mut lost) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
+    let n = s.q.len();
+    let full = n - n % 4;
+    let quads = s.q[..full]
+        .chunks_exact_mut(4)
+        .zip(s.qp[..full].chunks_exact_mut(4))
+        .zip(s.b[..full].chunks_exact(4).zip(s.d[..full].chunks_exact(4)))
+        .zip(
+            s.inv_a[..full]
+                .chunks_exact(4)
+                .zip(s.kick[..full].chunks_exact(4)),
+        )
+        .zip(s.c[..full].chunks_exact(4))
+        .zip(
+            s.w[0][..full]
+                .chunks_exact(4)
+                .zip(s.w[1][..full].chunks_exact(4)),
+        );
+    for (((((q, qp), (b, d)), (inv_a, kick)), c), (w0, w1)) in quads {
+        for j in 0..4 {
+            let (x, xp) = (q[j], qp[j]);
+            let next = (b[j] * x - d[j] * xp) * inv_a[j] + kick[j];
+            let (v, vc) = (next - x, next - xp);
+            qp[j] = x;
+            q[j] = next;
+            o0[j] += w0[j] * v;
+            o1[j] += w1[j] * v;
+            lost[j] += c[j] * vc * vc;
+        }
+    }
+    for e in full..n {
+        let (x, xp) = (s.q[e], s.qp[e]);
+        let next = (s.b[e] * x - s.d[e] * xp) * s.inv_a[e] + s.kick[e];
+        let (v, vc) = (next - x, next - xp);
+        s.qp[e] = x;
+        s.q[e] = next;
+        o0[0] += s.w[0][e] * v;
+        o1[0] += s.w[1][e] * v;
+        lost[0] += s.c[e] * vc * vc;
+    }
+    let total = |a: [f64; 4]| (a[0] + a[2]) + (a[1] + a[3]);
+    (total(o0), total(o1), total(lost))
+}
+
+/// [`sweep`] compiled for AVX2 (4-wide; no FMA, so the same bits).
+///
+/// # Safety
+///
+/// The running CPU must support AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn sweep_avx2(s: Sweep<'_>) -> (f64, f64, f64) {
+    sweep(s)
 }
 
 #[cfg(test)]
