@@ -134,8 +134,15 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
     for n in &r.notes {
         match (n.n_phi, n.n_psi, n.sim_rate, n.top_mode_hz) {
             (Some(phi), Some(psi), Some(sim), Some(top)) => eprintln!(
-                "  note {} vel {} at {:.3} s: N_phi = {phi}, N_psi = {psi}, sim {sim} Hz, top mode {top:.0} Hz",
-                n.key, n.velocity, n.start_s
+                "  note {} vel {} at {:.3} s: N_phi = {phi}, N_psi = {psi}, sim {sim} Hz, top mode {top:.0} Hz{}",
+                n.key,
+                n.velocity,
+                n.start_s,
+                match (n.above_modes, n.above_top_hz) {
+                    (Some(m), Some(f)) if m > 0 =>
+                        format!("; band above: {m} modes to {f:.0} Hz at the host rate"),
+                    _ => String::new(),
+                }
             ),
             _ => eprintln!(
                 "  note {} vel {} at {:.3} s: no voice sounds it (refused)",

@@ -259,6 +259,10 @@ pub struct NoteReport {
     pub sim_rate: Option<f32>,
     /// Frequency of the highest mode driven and heard (Hz).
     pub top_mode_hz: Option<f32>,
+    /// Modes of a plate's band above the simulation (0: none or off).
+    pub above_modes: Option<u32>,
+    /// Frequency of the band above's highest mode (Hz; 0 without one).
+    pub above_top_hz: Option<f32>,
 }
 
 /// The JSON report of a play.
@@ -468,6 +472,8 @@ fn note_report(engine: &crate::engine::Engine, key: u8, velocity: f32, start_s: 
         n_psi: model.map(|m| m.n_psi),
         sim_rate: model.map(|m| m.sim_rate),
         top_mode_hz: model.map(|m| m.top_mode_hz),
+        above_modes: model.map(|m| m.above_modes),
+        above_top_hz: model.map(|m| m.above_top_hz),
     }
 }
 

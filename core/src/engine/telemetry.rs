@@ -46,6 +46,10 @@ pub struct VoiceModelInfo {
     pub top_mode_hz: f32,
     /// Simulation rate of the voice (Hz).
     pub sim_rate: f32,
+    /// Modes of the plate's band above the simulation (0: none, off, or a string).
+    pub above_modes: u32,
+    /// Frequency (Hz) of the band above's highest mode (0 without one).
+    pub above_top_hz: f32,
 }
 
 /// One telemetry frame.

@@ -4,7 +4,7 @@ use serde::Serialize;
 
 /// Energy terms of a model at one instant, in joules.
 ///
-/// `total() = kinetic + linear + nonlinear` is the model's discrete energy; with losses and
+/// `total() = kinetic + linear + nonlinear + above` is the model's discrete energy; with losses and
 /// forcing, `balance() = total + dissipated - work` is constant up to round-off for
 /// energy-conserving schemes.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -15,6 +15,10 @@ pub struct EnergyTerms {
     pub linear: f64,
     /// Nonlinear potential energy (in-plane energy of a plate, contact energy of a string).
     pub nonlinear: f64,
+    /// Energy held by a plate's band above the simulation (stored in its modes, or received
+    /// from the closure and not yet given to them; [`crate::models::plate::extension`]); 0
+    /// for every other model.
+    pub above: f64,
     /// Energy removed by damping since the start (≥ 0).
     pub dissipated: f64,
     /// Work done by external forces since the start.
@@ -22,9 +26,9 @@ pub struct EnergyTerms {
 }
 
 impl EnergyTerms {
-    /// The discrete energy `kinetic + linear + nonlinear`.
+    /// The discrete energy `kinetic + linear + nonlinear + above`.
     pub fn total(&self) -> f64 {
-        self.kinetic + self.linear + self.nonlinear
+        self.kinetic + self.linear + self.nonlinear + self.above
     }
 
     /// The power-balance invariant `total + dissipated - work`.

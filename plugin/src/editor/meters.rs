@@ -18,6 +18,8 @@ pub const ROWS: usize = 4;
 /// Seconds of history in the strip chart.
 const HISTORY_S: f64 = 3.0;
 const ROW_H: f32 = 18.0;
+/// The colour of the band-above tick on an energy bar.
+const ABOVE_TICK: Color32 = Color32::from_rgb(80, 220, 255);
 const LABEL_W: f32 = 96.0;
 const CHART_H: f32 = 64.0;
 
@@ -158,6 +160,19 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
                 Stroke::new(2.0, Color32::WHITE),
             );
         }
+        // The band above the simulation's share (a plate whose closure passes energy on), as a
+        // cyan tick.
+        let above = energy_db(v.energy.above);
+        if above > DB_MIN {
+            let x = scale_x(bars, above);
+            painter.line_segment(
+                [
+                    Pos2::new(x, full.top() - 2.0),
+                    Pos2::new(x, full.bottom() + 2.0),
+                ],
+                Stroke::new(2.0, ABOVE_TICK),
+            );
+        }
         // What the voice simulates for its note, and its level, right-aligned over the bar.
         let m = v.model;
         let in_plane = if m.n_psi > 0 {
@@ -166,9 +181,18 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
             String::new()
         };
         // On a dark plate of its own, so it reads over any bar colour and the tick.
+        let band_above = if m.above_modes > 0 {
+            format!(
+                " + {} above to {:.0} kHz",
+                m.above_modes,
+                m.above_top_hz / 1000.0
+            )
+        } else {
+            String::new()
+        };
         let galley = painter.layout_no_wrap(
             format!(
-                "{} modes{in_plane} to {:.1} kHz · {db:.0} dB",
+                "{} modes{in_plane} to {:.1} kHz{band_above} · {db:.0} dB",
                 m.n_phi,
                 m.top_mode_hz / 1000.0
             ),
@@ -184,10 +208,11 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
     let footer_text = match active.len() {
         0 => "no voice sounding".to_string(),
         n if n > ROWS => format!(
-            "+{} more · white tick: nonlinear / contact energy",
+            "+{} more · white tick: nonlinear / contact energy · cyan: band above",
             n - ROWS
         ),
-        _ => "bar: total energy · white tick: nonlinear / contact energy".to_string(),
+        _ => "bar: total energy · white tick: nonlinear / contact energy · cyan: band above"
+            .to_string(),
     };
     painter.text(
         Pos2::new(rect.left() + 6.0, footer),

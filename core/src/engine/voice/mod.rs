@@ -299,6 +299,7 @@ impl Voice {
                     n_psi: 0,
                     top_mode_hz: (params.omega(n) / std::f64::consts::TAU) as f32,
                     sim_rate: params.sample_rate as f32,
+                    ..VoiceModelInfo::default()
                 }
             }
         }
@@ -316,7 +317,7 @@ impl Voice {
     /// Energy terms of the voice (J).
     pub fn energy_terms(&self) -> EnergyTerms {
         match &self.model {
-            VoiceModel::Plate(pv) => pv.model().energy().into(),
+            VoiceModel::Plate(pv) => pv.energy_terms(),
             VoiceModel::String(sv) => sv.model.energy_terms(),
         }
     }

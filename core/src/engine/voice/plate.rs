@@ -561,6 +561,8 @@ impl PlateVoice {
             n_psi: if self.data.linear { 0 } else { m as u32 },
             top_mode_hz: (top / TAU) as f32,
             sim_rate: self.fs as f32,
+            above_modes: self.above_modes() as u32,
+            above_top_hz: (self.above_top() / TAU) as f32,
         }
     }
 

@@ -58,6 +58,7 @@ impl From<PlateEnergy> for crate::models::source::EnergyTerms {
             kinetic: e.kinetic,
             linear: e.linear,
             nonlinear: e.nonlinear,
+            above: 0.0,
             dissipated: e.dissipated,
             work: e.work,
         }

@@ -346,7 +346,7 @@ impl RenderSource for PlateVoice {
             // The band above holds (stored or pending) what the closure passed on, less its
             // own losses: the closure's share of the plate's dissipation becomes the band's.
             let xe = x.energy();
-            e.linear += xe.stored + xe.pending;
+            e.above = xe.stored + xe.pending;
             e.dissipated += xe.dissipated - xe.received;
         }
         e

@@ -382,6 +382,7 @@ impl StiffString {
             kinetic: kin,
             linear: pot,
             nonlinear: contact,
+            above: 0.0,
             dissipated: self.dissipated,
             work: self.work,
         }

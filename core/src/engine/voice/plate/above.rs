@@ -9,6 +9,7 @@
 
 use super::{Frame, PlateVoice, VOICE_CEILING};
 use crate::models::plate::extension::ceiling_hz;
+use crate::models::source::EnergyTerms;
 use std::f64::consts::TAU;
 
 impl PlateVoice {
@@ -59,6 +60,37 @@ impl PlateVoice {
                 }
             }
         }
+    }
+
+    /// Modes of the note's band above (0 while the `band_above` parameter is off).
+    pub(super) fn above_modes(&self) -> usize {
+        if self.above.on {
+            self.above.bank.len()
+        } else {
+            0
+        }
+    }
+
+    /// Angular frequency (rad/s) of the band above's highest mode (0 without one).
+    pub(super) fn above_top(&self) -> f64 {
+        match self.above_modes() {
+            0 => 0.0,
+            n => self.above.omega[n - 1],
+        }
+    }
+
+    /// The voice's energy terms (J): the tier model's, with its band above's as the scene
+    /// voice counts them (stored and pending energy in `above`, the closure's share of the
+    /// dissipation replaced by the band's own losses), so the power balance closes over both.
+    /// Audio thread; O(N_e) while the band is awake.
+    pub fn energy_terms(&self) -> EnergyTerms {
+        let mut e: EnergyTerms = self.model().energy().into();
+        if !self.above.idle {
+            let x = self.above.bank.energy();
+            e.above = x.stored + x.pending;
+            e.dissipated += x.dissipated - x.received;
+        }
+        e
     }
 
     /// Runs the band above for `left.len()` host-rate samples with the energy the closure
