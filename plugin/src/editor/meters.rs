@@ -148,7 +148,35 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
         let db = energy_db(v.energy.total());
         let bar = Rect::from_min_max(full.min, Pos2::new(scale_x(bars, db), full.bottom()));
         painter.rect_filled(bar, 1.0, slot_colour(i).gamma_multiply(0.55));
-        // The nonlinear (in-plane or contact) share as a tick on the same scale.
+        // What the voice simulates for its note, and its level, right-aligned over the bar.
+        let m = v.model;
+        let in_plane = if m.n_psi > 0 {
+            format!(" + {} in-plane", m.n_psi)
+        } else {
+            String::new()
+        };
+        // The band above the simulation (its modes run to 20 kHz or 0.45 of the host rate).
+        let band_above = if m.above_modes > 0 {
+            format!(", {} above", m.above_modes)
+        } else {
+            String::new()
+        };
+        // On a dark plate of its own, so it reads over any bar colour.
+        let galley = painter.layout_no_wrap(
+            format!(
+                "{} modes{in_plane} to {:.1} kHz{band_above} · {db:.0} dB",
+                m.n_phi,
+                m.top_mode_hz / 1000.0
+            ),
+            font.clone(),
+            Color32::WHITE,
+        );
+        let text = Align2::RIGHT_CENTER
+            .anchor_size(full.right_center() - Vec2::new(3.0, 0.0), galley.size());
+        painter.rect_filled(text.expand(2.0), 2.0, Color32::from_black_alpha(200));
+        painter.galley(text.min, galley, Color32::WHITE);
+        // The nonlinear (in-plane or contact) share as a tick on the same scale, over the label
+        // (the label's plate would hide it at high levels).
         let nl = energy_db(v.energy.nonlinear);
         if nl > DB_MIN {
             let x = scale_x(bars, nl);
@@ -173,36 +201,6 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
                 Stroke::new(2.0, ABOVE_TICK),
             );
         }
-        // What the voice simulates for its note, and its level, right-aligned over the bar.
-        let m = v.model;
-        let in_plane = if m.n_psi > 0 {
-            format!(" + {} in-plane", m.n_psi)
-        } else {
-            String::new()
-        };
-        // On a dark plate of its own, so it reads over any bar colour and the tick.
-        let band_above = if m.above_modes > 0 {
-            format!(
-                " + {} above to {:.0} kHz",
-                m.above_modes,
-                m.above_top_hz / 1000.0
-            )
-        } else {
-            String::new()
-        };
-        let galley = painter.layout_no_wrap(
-            format!(
-                "{} modes{in_plane} to {:.1} kHz{band_above} · {db:.0} dB",
-                m.n_phi,
-                m.top_mode_hz / 1000.0
-            ),
-            font.clone(),
-            Color32::WHITE,
-        );
-        let text = Align2::RIGHT_CENTER
-            .anchor_size(full.right_center() - Vec2::new(3.0, 0.0), galley.size());
-        painter.rect_filled(text.expand(2.0), 2.0, Color32::from_black_alpha(200));
-        painter.galley(text.min, galley, Color32::WHITE);
     }
     let footer = bars.bottom() + 0.5 * ROW_H;
     let footer_text = match active.len() {
