@@ -439,6 +439,7 @@ impl Engine {
         if b.voices.iter().any(|v| v.active) || !self.output.is_at_rest() {
             return;
         }
+        b.above.reanchor();
         if b.resampler.reanchor() {
             self.output.reset();
             self.gain = gain_target;

@@ -6,7 +6,7 @@
 //! moved to the audio thread through the bank queue; the replaced bank goes back to the worker
 //! to be dropped.
 
-use super::above_mix::AboveMix;
+use super::above_mix::{above_rate, AboveMix};
 use super::kinds::ModelKind;
 use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
@@ -91,7 +91,14 @@ impl Bank {
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
             );
-            voices = plate_voices(kind, v, (sim_rate, host_rate), voices_n, cache, board)?;
+            voices = plate_voices(
+                kind,
+                v,
+                (sim_rate, above_rate(host_rate)),
+                voices_n,
+                cache,
+                board,
+            )?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
             sim_rate = v.get(ParamId::SimRate) as f64;
@@ -181,8 +188,9 @@ impl Bank {
         }
         let resampler = Resampler::new(sim_rate, host_rate, CHUNK);
         let max_in = resampler.max_input();
-        // The band above is delayed by the resampler's latency, to sound with the band below.
+        // The band above is delayed to the resampler's latency, to sound with the band below.
         let latency = (resampler.latency_input() as f64 * host_rate / sim_rate).round() as usize;
+        let above = AboveMix::new(host_rate, CHUNK, latency);
         Ok(Bank {
             id,
             kind,
@@ -192,8 +200,8 @@ impl Bank {
             resampler,
             sim_l: vec![0.0; max_in],
             sim_r: vec![0.0; max_in],
-            lanes: Lanes::new(voices_n, max_in, CHUNK),
-            above: AboveMix::new(latency, CHUNK),
+            lanes: Lanes::new(voices_n, max_in, above.max_input()),
+            above,
             norm,
             values: *v,
         })

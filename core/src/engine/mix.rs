@@ -87,6 +87,7 @@ pub(crate) fn run_bank(
     t: &mut Tally,
 ) -> bool {
     let m = b.resampler.input_needed(left.len());
+    let m_above = b.above.input_needed(left.len());
     let n = b.voices.len().min(b.lanes.len());
     // Raw pointer into the voice list: the voices are reached one by one, never through a
     // slice that would cover a voice a worker still holds.
@@ -106,7 +107,7 @@ pub(crate) fn run_bank(
         if let Some(v) = unsafe { voice_at(base, lanes, i) } {
             if v.active {
                 assist |= v.offers_step_halves();
-                lanes.queue(i, v, (m, left.len()), b.norm);
+                lanes.queue(i, v, (m, m_above), b.norm);
                 queued |= 1 << i;
             }
         }
@@ -129,7 +130,7 @@ pub(crate) fn run_bank(
     let (sl, sr) = (&mut b.sim_l[..m], &mut b.sim_r[..m]);
     sl.fill(0.0);
     sr.fill(0.0);
-    b.above.clear(left.len());
+    b.above.clear(m_above);
     for i in (0..n).filter(|i| queued >> i & 1 == 1) {
         match lanes.take(i) {
             Some((ok, [vl, vr], above)) => {

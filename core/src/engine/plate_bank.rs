@@ -171,11 +171,11 @@ fn above_count(basis: &PlateBasis, v: &ParamValues) -> usize {
 }
 
 /// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate`, their bands above at
-/// `host_rate` (see the module doc).
+/// `above_rate` (see the module doc).
 pub(crate) fn plate_voices(
     kind: ModelKind,
     v: &ParamValues,
-    (sim_rate, host_rate): (f64, f64),
+    (sim_rate, above_rate): (f64, f64),
     voices_n: usize,
     cache: &mut ModalCache,
     board: &Arc<StepBoard>,
@@ -260,7 +260,7 @@ pub(crate) fn plate_voices(
             models,
             data.clone(),
             sim_rate,
-            host_rate,
+            above_rate,
         )))));
     }
     Ok(voices)

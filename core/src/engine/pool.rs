@@ -82,7 +82,7 @@ pub fn in_voice_job() -> bool {
 }
 
 /// A finished job's result: whether the voice stayed finite and under the ceiling, its
-/// simulation-rate left and right output, and its band above's (host rate).
+/// simulation-rate left and right output, and its band above's (the bank's above rate).
 pub(crate) type LaneOutput<'a> = (bool, [&'a [f32]; 2], [&'a [f32]; 2]);
 
 /// One voice's job slot: its state, the job's parameters, and the voice's output buffers for
@@ -104,7 +104,7 @@ pub(crate) struct Lane {
     buf: UnsafeCell<[Box<[f32]>; 2]>,
     /// Host-rate samples of the job's band above the simulation.
     above_len: AtomicUsize,
-    /// Left and right output of the band above (host rate, `max_out` samples each).
+    /// Left and right output of the band above (the bank's above rate, `max_out` samples each).
     above: UnsafeCell<[Box<[f32]>; 2]>,
 }
 
@@ -121,7 +121,7 @@ pub(crate) struct Lanes {
 }
 
 impl Lanes {
-    /// `voices` lanes with buffers of `max_in` simulation-rate and `max_out` host-rate samples
+    /// `voices` lanes with buffers of `max_in` simulation-rate and `max_out` band-above samples
     /// (builder thread; allocates).
     pub fn new(voices: usize, max_in: usize, max_out: usize) -> Box<Lanes> {
         // The chunk loop keeps a bit mask of queued lanes in a u64.
@@ -179,7 +179,7 @@ impl Lanes {
     }
 
     /// Queues voice `voice` (lane `i`, at rest) for `len` simulation samples and `above_len`
-    /// host-rate samples of its band above, at output `gain` (audio thread). The caller gives
+    /// samples of its band above (at the bank's above rate), at output `gain` (audio thread). The caller gives
     /// up the voice until [`Self::take`] returns it.
     pub fn queue(&self, i: usize, voice: *mut Voice, (len, above_len): (usize, usize), gain: f64) {
         let l = &self.lanes[i];
@@ -233,7 +233,7 @@ impl Lanes {
     }
 
     /// Takes lane `i`'s result if its job is done (audio thread): `Some((ok, [left, right],
-    /// [above left, above right]))` (simulation rate, then the band above at the host rate),
+    /// [above left, above right]))` (simulation rate, then the band above at the bank's above rate),
     /// the lane back at rest and its voice back with the audio thread. The caller drops the
     /// slices before it queues lane `i` again (the audio thread's chunk loop does: it takes
     /// every result before it queues the next chunk).

@@ -43,13 +43,14 @@ pub(crate) struct Above {
     pub on: bool,
     /// At rest since the last reset (nothing received yet): the run is skipped.
     pub idle: bool,
-    /// Host rate (Hz): the band above runs at it.
-    pub host_rate: f64,
+    /// The rate the band above runs at (Hz): the host rate up to 48 kHz
+    /// ([`crate::engine::above_mix::above_rate`]).
+    pub rate: f64,
 }
 
 impl Above {
-    /// Room for every listed mode at `host_rate` (Hz). Worker thread; allocates.
-    pub fn new(modes: &AboveModes, host_rate: f64) -> Self {
+    /// Room for every listed mode, running at `rate` (Hz). Worker thread; allocates.
+    pub fn new(modes: &AboveModes, rate: f64) -> Self {
         let n = modes.list.len();
         Self {
             bank: BandExtension::new(n),
@@ -57,7 +58,7 @@ impl Above {
             damping: vec![0.0; n],
             on: true,
             idle: true,
-            host_rate,
+            rate,
         }
     }
 

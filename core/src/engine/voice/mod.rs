@@ -265,7 +265,7 @@ impl Voice {
         true
     }
 
-    /// Runs the band above the simulation of a plate voice for `left.len()` host-rate samples
+    /// Runs the band above the simulation of a plate voice for `left.len()` samples at the bank's above rate
     /// (after [`Self::run`] ran the chunk's simulation samples), adding `gain ·` its pickups;
     /// `false` past [`super::VOICE_CEILING`]. Strings have none (O(1)). Audio thread or the
     /// voice's job; no allocation.

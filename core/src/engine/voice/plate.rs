@@ -180,17 +180,17 @@ pub(crate) struct PlateVoice {
 }
 
 impl PlateVoice {
-    /// Wraps the tier models, the band above running at `host_rate` (Hz) (worker thread;
+    /// Wraps the tier models, the band above running at `above_rate` (Hz) (worker thread;
     /// allocates the scratch).
     pub fn new(
         models: Vec<PlateModel<CouplingTensor>>,
         data: Arc<PlateData>,
         fs: f64,
-        host_rate: f64,
+        above_rate: f64,
     ) -> Self {
         let (nf, np) = (data.lambda2.len(), data.zeta4.len());
         let tiers_n = data.tiers.len();
-        let above = Above::new(&data.above, host_rate);
+        let above = Above::new(&data.above, above_rate);
         Self {
             models,
             tier: 0,

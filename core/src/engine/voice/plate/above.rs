@@ -1,6 +1,7 @@
 //! The band above a plate voice's simulation, per note: the plate's linear modes from the top
-//! of the note's tier up to [`ceiling_hz`] of the host rate (data in
-//! [`crate::engine::voice::above`]), run at the host rate and fed with exactly the energy the tier's truncation closure absorbs
+//! of the note's tier up to [`ceiling_hz`] of the rate they run at (data in
+//! [`crate::engine::voice::above`]), run at the bank's above rate (the host rate up to 48 kHz,
+//! [`crate::engine::above_mix`]) and fed with exactly the energy the tier's truncation closure absorbs
 //! ([`crate::models::plate::extension`]). Their frequencies, damping law and pickups are the
 //! note's own, continued past the tier; the pickups sit at the bank's radii (a note's own
 //! pickup radius moves only the simulated band).
@@ -25,7 +26,7 @@ impl PlateVoice {
     ) {
         let modes = &self.data.above;
         let from = self.data.tiers[self.tier].0.min(modes.list.len());
-        let ceiling = TAU * ceiling_hz(self.above.host_rate);
+        let ceiling = TAU * ceiling_hz(self.above.rate);
         let mut k = 0;
         for &l2 in &modes.list.lambda2[from..] {
             let w = l2 * scale;
@@ -36,7 +37,7 @@ impl PlateVoice {
             self.above.damping[k] = law(w);
             k += 1;
         }
-        let h = 1.0 / self.above.host_rate;
+        let h = 1.0 / self.above.rate;
         let above = &mut self.above;
         above
             .bank
@@ -93,7 +94,7 @@ impl PlateVoice {
         e
     }
 
-    /// Runs the band above for `left.len()` host-rate samples with the energy the closure
+    /// Runs the band above for `left.len()` samples at its rate with the energy the closure
     /// absorbed since the last call, adding `gain ·` its pickups; `false` past
     /// [`VOICE_CEILING`]. Skipped (O(1)) while nothing was ever received or the band is off.
     /// Audio thread or the voice's job; no allocation, O(N_e) per sample when it runs.
