@@ -8,30 +8,11 @@ use noether::models::plate::voice::PlateVoice;
 use noether::models::source::RenderSource;
 use noether::scene::Scene;
 
+/// The closure's test plate (`plate_closure.rs`) in its strike-mirror subspace, the closure at
+/// 10 times its calibrated strength, with the band above `band_above` and the `pickups` tables.
 fn scene(scheme: &str, band_above: bool, pickups: &str) -> Result<Scene, SceneError> {
-    let text = format!(
-        r#"
-[output]
-sample_rate = 48000
-seconds = 0.3
-[plate]
-shape = "circular-free"
-radius = 0.2
-thickness = 0.0005
-n_phi = 40
-n_psi = 12
-symmetry = "strike-mirror"
-sim_rate = 48000
-scheme = "{scheme}"
-closure = 10
-band_above = {band_above}
-damping = {{ law = "power", a = 0.005, b = 0.6 }}
-excitation = {{ kind = "mallet", at = {{ r = 0.9, angle = 0.2 }}, head = "metal", speed = 4.0 }}
-{pickups}
-"#
-    );
-    noether_testkit::env::test_cache_dir();
-    Scene::from_toml(&text, "test", &[])
+    let extra = format!("symmetry = \"strike-mirror\"\nband_above = {band_above}\n{pickups}");
+    super::plate_closure::scene_with(scheme, 10.0, &extra)
 }
 
 /// Renders `n` samples; returns the voice and its outputs.

@@ -8,6 +8,13 @@ use noether::models::source::RenderSource;
 use noether::scene::Scene;
 
 fn scene(scheme: &str, closure: f64) -> Result<Scene, SceneError> {
+    scene_with(scheme, closure, "")
+}
+
+/// The test plate (40 modes, 12 in-plane, a metal mallet at 4 m/s) with the closure at
+/// `closure` times its calibrated strength and the lines `extra` appended to its `[plate]`
+/// table (`tests/plates/plate_band_above.rs` adds the band above and pickups).
+pub(crate) fn scene_with(scheme: &str, closure: f64, extra: &str) -> Result<Scene, SceneError> {
     let text = format!(
         r#"
 [output]
@@ -24,6 +31,7 @@ scheme = "{scheme}"
 closure = {closure}
 damping = {{ law = "power", a = 0.005, b = 0.6 }}
 excitation = {{ kind = "mallet", at = {{ r = 0.9, angle = 0.2 }}, head = "metal", speed = 4.0 }}
+{extra}
 "#
     );
     noether_testkit::env::test_cache_dir();

@@ -16,7 +16,7 @@ use super::voice::{
     HEARD_FRACTION,
 };
 use crate::error::ParamError;
-use crate::modal::TensorStorage;
+use crate::modal::{omega_scale, TensorStorage};
 use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
 use crate::models::plate::extension::mode_count;
 use crate::models::plate::rest_projection::project;
@@ -157,17 +157,19 @@ fn above_points(kind: ModelKind, frame: &Frame) -> [Position; 2] {
 }
 
 /// How many modes the band above lists for the basis `basis` of the plate of `v`: as many as
-/// reach the ceiling at the root key ([`mode_count`]). Worker thread.
-fn above_count(basis: &PlateBasis, v: &ParamValues) -> usize {
+/// reach the ceiling at the root key ([`mode_count`], with the plate's [`omega_scale`]).
+/// Worker thread.
+fn above_count(basis: &PlateBasis, v: &ParamValues) -> Result<usize, ParamError> {
     let m = Material::from_params(v);
-    let (a, h) = (
+    let scale = omega_scale(
         v.get(ParamId::Size) as f64,
         v.get(ParamId::Thickness) as f64,
-    );
-    let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - m.poisson * m.poisson));
-    let scale = (d / (m.density * h)).sqrt() / (a * a);
+        m.youngs_modulus,
+        m.density,
+        m.poisson,
+    )?;
     let top = basis.lambda2().last().copied().unwrap_or(0.0) * scale;
-    mode_count(basis.n_phi(), top / TAU)
+    Ok(mode_count(basis.n_phi(), top / TAU))
 }
 
 /// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate`, their bands above at
@@ -194,7 +196,7 @@ pub(crate) fn plate_voices(
     let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
     let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
     let frame = frame(kind, &basis, v);
-    let above = AboveModes::build(&key, above_count(&basis, v), above_points(kind, &frame));
+    let above = AboveModes::build(&key, above_count(&basis, v)?, above_points(kind, &frame));
     let data = Arc::new(PlateData {
         lambda2: basis.lambda2().to_vec(),
         zeta4: basis.zeta4().to_vec(),

@@ -108,10 +108,10 @@ pub(crate) struct Lane {
     above: UnsafeCell<[Box<[f32]>; 2]>,
 }
 
-// SAFETY: the only non-`Sync` fields are `buf` and `above`, each accessed mutably by one thread at a time: the
-// participant that moved `state` from QUEUED to RUNNING (until its release store of DONE),
-// otherwise the audio thread (which reads it only after an acquire load of DONE or IDLE and
-// writes nothing into it). See the module doc's state diagram.
+// SAFETY: the only non-`Sync` fields are `buf` and `above`, each accessed mutably by one
+// thread at a time: the participant that moved `state` from QUEUED to RUNNING (until its
+// release store of DONE), otherwise the audio thread (which reads them only after an acquire
+// load of DONE or IDLE and writes nothing into them). See the module doc's state diagram.
 unsafe impl Sync for Lane {}
 
 /// The lanes of a bank, one per voice, in a heap allocation of their own (workers reach them
@@ -179,8 +179,8 @@ impl Lanes {
     }
 
     /// Queues voice `voice` (lane `i`, at rest) for `len` simulation samples and `above_len`
-    /// samples of its band above (at the bank's above rate), at output `gain` (audio thread). The caller gives
-    /// up the voice until [`Self::take`] returns it.
+    /// samples of its band above (at the bank's above rate), at output `gain` (audio thread).
+    /// The caller gives up the voice until [`Self::take`] returns it.
     pub fn queue(&self, i: usize, voice: *mut Voice, (len, above_len): (usize, usize), gain: f64) {
         let l = &self.lanes[i];
         debug_assert_eq!(l.state.load(Ordering::Relaxed), IDLE);
@@ -233,7 +233,8 @@ impl Lanes {
     }
 
     /// Takes lane `i`'s result if its job is done (audio thread): `Some((ok, [left, right],
-    /// [above left, above right]))` (simulation rate, then the band above at the bank's above rate),
+    /// [above left, above right]))` (simulation rate, then the band above at the bank's above
+    /// rate),
     /// the lane back at rest and its voice back with the audio thread. The caller drops the
     /// slices before it queues lane `i` again (the audio thread's chunk loop does: it takes
     /// every result before it queues the next chunk).

@@ -32,13 +32,14 @@
 //! contiguous blocks and one block is fed per step, in turn (each mode every `STRIDE` steps
 //! with what its share accumulated), so the injection's square root and division are taken
 //! for `N_e / STRIDE` modes per step and the bank costs a few multiply-adds per mode and step
-//! (one sweep, 4-wide with AVX2 where the CPU has it, the same bits either way).
+//! (one sweep, compiled at the CPU's SIMD level with `pulp`, the same bits at every level).
 //!
 //! Lifecycle: [`BandExtension::new`] allocates (worker thread); [`BandExtension::retune`],
 //! [`BandExtension::run`] and [`BandExtension::reset`] run on the audio thread (or a voice
 //! job) without allocation.
 
 use super::params::linear_coefficients;
+use crate::models::source::EnergyTerms;
 
 /// The exponent `α` of the shares `s_e ∝ (ω_e/ω_0)^{-α}` (see the module doc), calibrated on
 /// the crash cymbal against its 20 kHz reference (docs/ACCURACY.md).
@@ -86,6 +87,15 @@ pub struct ExtensionEnergy {
 }
 
 impl ExtensionEnergy {
+    /// Adds the band to a model's energy terms (those of the plate that feeds it): its stored
+    /// and pending energy as [`EnergyTerms::above`], and its own losses in place of the
+    /// closure's share of the plate's dissipation (what it received), so the terms' balance
+    /// closes over plate and band.
+    pub fn fold_into(&self, e: &mut EnergyTerms) {
+        e.above = self.stored + self.pending;
+        e.dissipated += self.dissipated - self.received;
+    }
+
     /// `stored + pending + dissipated - received`: zero to round-off from a reset on.
     pub fn balance(&self) -> f64 {
         self.stored + self.pending + self.dissipated - self.received
@@ -125,8 +135,9 @@ pub struct BandExtension {
     outputs: [f64; 2],
     /// Which turn the next step feeds.
     turn: usize,
-    /// Whether the running CPU has AVX2 (the sweep then runs 4-wide, with the same bits).
-    avx2: bool,
+    /// The running CPU's SIMD level: the sweep is compiled for it (`pulp`, as the string's
+    /// loops), with the same bits at every level.
+    arch: pulp::Arch,
     energy: ExtensionEnergy,
 }
 
@@ -152,7 +163,7 @@ impl BandExtension {
             q_prev: z(),
             outputs: [0.0; 2],
             turn: 0,
-            avx2: has_avx2(),
+            arch: pulp::Arch::new(),
             energy: ExtensionEnergy::default(),
         }
     }
@@ -288,17 +299,8 @@ impl BandExtension {
             self.energy.pending = (self.energy.pending - given).max(0.0);
         }
         let inv_h = 1.0 / h;
-        let (o0, o1, lost) = if self.avx2 {
-            // SAFETY: `avx2` is set only when the running CPU reports the feature.
-            #[cfg(target_arch = "x86_64")]
-            unsafe {
-                sweep_avx2(self.sweep_args(n))
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            sweep(self.sweep_args(n))
-        } else {
-            sweep(self.sweep_args(n))
-        };
+        let arch = self.arch;
+        let (o0, o1, lost) = arch.dispatch(self.sweep_args(n));
         self.outputs = [o0 * inv_h, o1 * inv_h];
         let lost = 0.25 * inv_h * inv_h * lost;
         if budget > 0.0 && lo < hi {
@@ -372,22 +374,10 @@ struct Sweep<'a> {
     w: [&'a [f64]; 2],
 }
 
-/// Whether the running CPU has AVX2 (x86-64 only).
-fn has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 /// One step of every mode: `q⁺ = (b q - d q⁻)/a + kick`, the state shifted, and the sums of
 /// the two pickups' `w (q⁺ - q)` and of the damping's `c (q⁺ - q⁻)²`, each over four
 /// independent partial sums (kept in SIMD registers) added in a fixed order: the same bits on
-/// every run and with or without [`sweep_avx2`]. Audio thread; no allocation.
+/// every run and at every SIMD level (no fused multiply-add). Audio thread; no allocation.
 #[inline(always)]
 fn sweep(s: Sweep<'_>) -> (f64, f64, f64) {
     let (mut o0, mut o1, mut lost) = ([0.0f64; 4], [0.0f64; 4], [0.0f64; 4]);
@@ -434,15 +424,14 @@ fn sweep(s: Sweep<'_>) -> (f64, f64, f64) {
     (total(o0), total(o1), total(lost))
 }
 
-/// [`sweep`] compiled for AVX2 (4-wide; no FMA, so the same bits).
-///
-/// # Safety
-///
-/// The running CPU must support AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn sweep_avx2(s: Sweep<'_>) -> (f64, f64, f64) {
-    sweep(s)
+impl pulp::WithSimd for Sweep<'_> {
+    type Output = (f64, f64, f64);
+
+    /// [`sweep`], compiled at the SIMD level `pulp` detected.
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        sweep(self)
+    }
 }
 
 #[cfg(test)]

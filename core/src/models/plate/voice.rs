@@ -343,11 +343,7 @@ impl RenderSource for PlateVoice {
             e.work += me.launched - me.work_on_plate;
         }
         if let Some(x) = &self.above {
-            // The band above holds (stored or pending) what the closure passed on, less its
-            // own losses: the closure's share of the plate's dissipation becomes the band's.
-            let xe = x.energy();
-            e.above = xe.stored + xe.pending;
-            e.dissipated += xe.dissipated - xe.received;
+            x.energy().fold_into(&mut e);
         }
         e
     }

@@ -87,9 +87,7 @@ impl PlateVoice {
     pub fn energy_terms(&self) -> EnergyTerms {
         let mut e: EnergyTerms = self.model().energy().into();
         if !self.above.idle {
-            let x = self.above.bank.energy();
-            e.above = x.stored + x.pending;
-            e.dissipated += x.dissipated - x.received;
+            self.above.bank.energy().fold_into(&mut e);
         }
         e
     }
