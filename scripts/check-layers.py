@@ -118,9 +118,10 @@ CRATES = [
         "noether-plugin",
         "plugin/src/lib.rs",
         [
-            # fake_host: the tests' host (test builds only); format: values to text and back.
+            # bypass: the host bypass's fade and keys; fake_host: the tests' host (test builds
+            # only); format: values to text and back.
             # tuning: the saved Scala texts and their publication to the engine.
-            ["fake_host", "format", "preset_state", "tuning", "user_presets"],
+            ["bypass", "fake_host", "format", "preset_state", "tuning", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
             # poly: the host's notes and their polyphonic modulation (reads `params`).
             ["poly", "preset_ops"],

@@ -34,6 +34,8 @@ enum Quantity {
     Count(&'static str, &'static str),
     /// The worker threads: 0 reads "all cores".
     Threads,
+    /// The CPU budget in cores: 0 reads "auto" (the engine's share of the machine's cores).
+    Budget,
     /// A plain number with a fixed unit text (possibly empty).
     Plain(&'static str),
 }
@@ -52,6 +54,7 @@ fn quantity(id: ParamId) -> Quantity {
         RootKey => Quantity::Key,
         Polyphony => Quantity::Count("voice", "voices"),
         Threads => Quantity::Threads,
+        CpuBudget => Quantity::Budget,
         Density => Quantity::Plain("kg/m³"),
         DampingScale | Closure => Quantity::Plain("×"),
         DampingC0 => Quantity::Plain("1/s"),
@@ -176,6 +179,8 @@ pub fn format_value(id: ParamId, value: f32) -> String {
         Quantity::Count(one, many) => plural(value.round().max(0.0) as usize, one, many),
         Quantity::Threads if value < 0.5 => "all cores".to_string(),
         Quantity::Threads => plural(value.round() as usize, "thread", "threads"),
+        Quantity::Budget if value <= 0.0 => "auto".to_string(),
+        Quantity::Budget => with_unit(value, "cores"),
         Quantity::Plain("dB") => format!("{value:+.2} dB"),
         Quantity::Plain(unit) => with_unit(value, unit),
     }
@@ -194,7 +199,11 @@ pub fn typing_unit(id: ParamId) -> &'static str {
         Quantity::Time => "s",
         Quantity::LinearDensity => "kg/m",
         Quantity::Plain(u) => u,
-        Quantity::Percent | Quantity::Key | Quantity::Count(..) | Quantity::Threads => "",
+        Quantity::Percent
+        | Quantity::Key
+        | Quantity::Count(..)
+        | Quantity::Threads
+        | Quantity::Budget => "",
     }
 }
 
@@ -237,7 +246,7 @@ fn unit_fits(q: Quantity, unit: &str) -> bool {
         Quantity::Frequency => matches!(unit, "kHz" | "Hz"),
         Quantity::Time => matches!(unit, "ms" | "s"),
         Quantity::LinearDensity => matches!(unit, "g/m" | "kg/m"),
-        Quantity::Key | Quantity::Count(..) | Quantity::Threads => false,
+        Quantity::Key | Quantity::Count(..) | Quantity::Threads | Quantity::Budget => false,
         Quantity::Plain(_) => false,
     }
 }
@@ -254,8 +263,15 @@ pub fn parse_value(id: ParamId, text: &str) -> Option<f32> {
             let first = text.split_whitespace().next()?;
             return first.parse::<f32>().ok();
         }
+        Quantity::Budget if text.trim().starts_with("auto") => return Some(0.0),
         _ => {}
     }
+    // The budget reads as a plain number of cores.
+    let q = if matches!(q, Quantity::Budget) {
+        Quantity::Plain("cores")
+    } else {
+        q
+    };
     let t = text.trim().replace('−', "-");
     let split = t
         .char_indices()

@@ -16,6 +16,7 @@
 //! are copied into atomics, events into a preallocated buffer); `activate` and the editor run
 //! on the host's main and GUI threads.
 
+pub mod bypass;
 pub mod editor;
 #[cfg(test)]
 pub(crate) mod fake_host;
@@ -69,6 +70,8 @@ pub struct Noether {
     midi: midi::MidiMap,
     /// The host's notes, their polyphonic modulation and their ends (audio thread).
     poly: poly::PolyVoices,
+    /// The bypass fade (audio thread; its rate set in `activate`).
+    bypass: bypass::BypassFade,
 }
 
 impl Default for Noether {
@@ -89,6 +92,7 @@ impl Default for Noether {
             events: Vec::with_capacity(EVENT_CAPACITY),
             midi: midi::MidiMap::default(),
             poly: poly::PolyVoices::default(),
+            bypass: bypass::BypassFade::default(),
         }
     }
 }
@@ -153,15 +157,28 @@ impl Plugin for Noether {
         self.engine.set_job_wait(
             (buffer_config.process_mode == ProcessMode::Offline).then_some(OFFLINE_JOB_WAIT),
         );
-        match self
-            .engine
-            .activate(f64::from(buffer_config.sample_rate), max_block)
-        {
-            Ok(refused) => {
+        let rate = f64::from(buffer_config.sample_rate);
+        self.bypass.set_rate(rate);
+        // A real-time activation never waits for a model build (it runs on the host's main
+        // thread): the worker builds in the background and the last good model of this
+        // instance plays meanwhile, or silence (the editor says which). An offline bounce waits
+        // for the model, so it repeats bit for bit.
+        // The CPU governor keeps a live host's blocks in time; a bounce keeps every note's
+        // full band (and repeats).
+        let offline = buffer_config.process_mode == ProcessMode::Offline;
+        self.engine.set_governor(!offline);
+        let activated = if offline {
+            self.engine.activate(rate, max_block).map(|refused| {
                 if let Some(e) = refused {
                     // The editor shows the same message (the engine handle's last error).
                     nice_error!("{e}: the last model that could be built keeps playing");
                 }
+            })
+        } else {
+            self.engine.activate_realtime(rate, max_block)
+        };
+        match activated {
+            Ok(()) => {
                 context.set_latency_samples(self.engine.latency_samples());
                 true
             }
@@ -180,6 +197,7 @@ impl Plugin for Noether {
         self.engine.reset();
         self.midi.reset();
         self.poly.reset();
+        self.bypass.reset(self.params.bypass.value());
     }
 
     fn process(
@@ -190,19 +208,25 @@ impl Plugin for Noether {
     ) -> ProcessStatus {
         self.params.sync_to_engine(&self.shared);
         self.events.clear();
+        // Output events must leave in time order (CLAP requires it): each note end is sent at
+        // its input event's time or the latest time already sent, whichever is later (a host
+        // may deliver input events out of order).
+        let mut sent_at = 0u32;
         while let Some(event) = context.next_event() {
             self.midi.translate(&event, &mut self.events);
             self.poly
                 .observe(&event, &self.params, &mut self.events, |e| {
+                    sent_at = sent_at.max(event.timing());
                     // A host with no output event list gets no note ends.
-                    let _ = context.try_send_event(poly::terminated(event.timing(), e));
+                    let _ = context.try_send_event(poly::terminated(sent_at, e));
                 });
         }
         let [left, right] = buffer.as_slice() else {
             return ProcessStatus::Error("the plugin needs a stereo output");
         };
         self.engine.process_events(&self.events, left, right);
-        let last = (left.len() as u32).saturating_sub(1);
+        self.bypass.apply(self.params.bypass.value(), left, right);
+        let last = (left.len() as u32).saturating_sub(1).max(sent_at);
         self.poly.end_voices(self.engine.sounding_keys(), |e| {
             let _ = context.try_send_event(poly::terminated(last, e));
         });

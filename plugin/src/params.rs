@@ -8,6 +8,7 @@
 //! nice-plug); the audio thread copies them into the engine's [`SharedParams`] at the start of
 //! every (sample-accurately split) block in [`NoetherParams::sync_to_engine`].
 
+use crate::bypass::BYPASS_KEY;
 use crate::format::{format_value, parse_value};
 use crate::preset_state::{CurrentPreset, Origin, PresetState};
 use crate::tuning::{StoredTuning, TuningState};
@@ -125,6 +126,10 @@ pub struct NoetherParams {
     /// The Scala tuning files (persisted) and what the engine plays (see [`crate::tuning`]).
     /// Main and GUI thread, never the audio thread.
     pub tuning: RwLock<TuningState>,
+    /// The host's bypass (flagged as CLAP's and VST3's bypass parameter; a plugin-only
+    /// parameter, not in the engine's table). The audio thread reads it every block
+    /// ([`crate::bypass`]).
+    pub bypass: BoolParam,
 }
 
 impl Default for NoetherParams {
@@ -144,6 +149,7 @@ impl Default for NoetherParams {
             preset: RwLock::new(PresetState::default()),
             engine,
             tuning,
+            bypass: BoolParam::new("Bypass", false).make_bypass(),
         }
     }
 }
@@ -205,6 +211,7 @@ unsafe impl Params for NoetherParams {
                 };
                 (info.key.to_string(), ptr, group_of(info.id).to_string())
             })
+            .chain([(BYPASS_KEY.to_string(), self.bypass.as_ptr(), String::new())])
             .collect()
     }
 
@@ -317,7 +324,9 @@ pub fn group_of(id: ParamId) -> &'static str {
         PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
         Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
         | ContactStiffness | ContactAlpha => "String and bridge",
-        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove => "Quality",
+        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove | CpuBudget => {
+            "Quality"
+        }
         _ => "Tuning and output",
     }
 }
@@ -332,7 +341,9 @@ mod tests {
     fn mirrors_the_engine_table() {
         let p = NoetherParams::default();
         let map = p.param_map();
-        assert_eq!(map.len(), PARAMS.len());
+        // The engine's table, then the plugin's own bypass.
+        assert_eq!(map.len(), PARAMS.len() + 1);
+        assert_eq!(map[PARAMS.len()].0, BYPASS_KEY);
         for ((key, _, _), info) in map.iter().zip(PARAMS) {
             assert_eq!(key, info.key);
             let v = p.slot(info.id).value();

@@ -28,6 +28,7 @@
 //!
 //! Threads: the host's main thread (state load), never the audio thread.
 
+use crate::bypass::PLUGIN_ONLY_KEYS;
 use nice_plug::plugin::{ParamValue, PluginState};
 use noether_core::engine::preset::enum_keys;
 use noether_core::engine::{
@@ -303,6 +304,7 @@ pub fn repair(state: &mut PluginState, current: &'static str) -> Vec<StateIssue>
         .params
         .keys()
         .filter(|k| !PARAMS.iter().any(|p| p.key == k.as_str()))
+        .filter(|k| !PLUGIN_ONLY_KEYS.contains(&k.as_str()))
         .cloned()
         .collect();
     for key in unknown {
@@ -366,6 +368,20 @@ mod tests {
         for p in PARAMS {
             assert_eq!(value(&s, p.id), p.default, "{}", p.key);
         }
+    }
+
+    /// The plugin's own bypass is kept as saved, with no issue (it is not in the engine's
+    /// table, but it is no unknown key).
+    #[test]
+    fn the_bypass_is_kept() {
+        let mut s = full_state();
+        s.params
+            .insert(crate::bypass::BYPASS_KEY.into(), ParamValue::Bool(true));
+        assert!(repair(&mut s, V).is_empty());
+        assert!(matches!(
+            s.params.get(crate::bypass::BYPASS_KEY),
+            Some(ParamValue::Bool(true))
+        ));
     }
 
     /// An old-version state without some parameters: version reported, the missing ones get

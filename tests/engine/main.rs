@@ -6,6 +6,7 @@
 #[global_allocator]
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
+mod activation;
 mod always_playable;
 mod band_above;
 mod cascade;
@@ -18,6 +19,7 @@ mod engine_shape;
 mod engine_split_step;
 mod engine_threads;
 mod extreme_levels;
+mod governor;
 mod long_performance;
 mod per_note;
 mod pitch_from_sound;

@@ -1,32 +1,35 @@
 //! [`Engine`]: the audio-thread object (lifecycle, events, block processing, voice pool).
 
-use super::bank::{Bank, ModalCache, CHUNK};
+use super::bank::{Bank, CHUNK};
 use super::events::{Event, EventKind, GuiCommand};
-use super::handle::{EngineHandle, Worker, WorkerSetup, WorkerStatus, KEPT};
+use super::governor::Governor;
+use super::handle::{BuildRequest, EngineHandle, Worker, WorkerStatus};
 use super::mix::{run_bank, Sharing, Tally};
 use super::output::OutputStage;
 use super::params::{ParamId, ParamValues, SharedParams};
 use super::pool::Pool;
 use super::telemetry::Telemetry;
 use super::tuning::KeyTuning;
-use crate::error::{check_closed, ParamError};
 use crate::models::plate::StepBoard;
 use crossbeam_channel::{bounded, Receiver, Sender};
 use ringbuf::traits::Split;
 use ringbuf::{HeapCons, HeapProd, HeapRb};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// Lowest accepted host rate (Hz). The models run at their own simulation rate and are
-/// resampled to the host's, so any rate a host may use is accepted.
+/// Lowest host rate of the offline renders (`noether play --rate`, Hz: the rates a WAV file
+/// is played at). The engine itself activates at every positive finite rate: the models run
+/// at their own simulation rate and are resampled to the host's.
 pub const MIN_HOST_RATE: f64 = 8_000.0;
-/// Highest accepted host rate (Hz).
+/// Highest host rate of the offline renders (Hz; see [`MIN_HOST_RATE`]).
 pub const MAX_HOST_RATE: f64 = 768_000.0;
 /// Shortest interval between two retunes of the sounding voices (s): continuous automation
 /// costs at most one O(N) retune per voice every 2 ms.
 pub(super) const RETUNE_INTERVAL: f64 = 0.002;
 /// Cross-fade of a replaced bank (s).
-const FADE: f64 = 0.02;
+pub(super) const FADE: f64 = 0.02;
+/// Polling period of a blocking activation waiting for its bank.
+pub(super) const POLL_WAIT: Duration = Duration::from_millis(2);
 /// Events kept while the bank is held by a late voice job (applied when it returns).
 pub(super) const DEFERRED: usize = 256;
 
@@ -48,6 +51,11 @@ pub struct Engine {
     pub(super) commands: HeapCons<GuiCommand>,
     pub(super) telemetry_tx: HeapProd<Telemetry>,
     pub(super) status: Arc<WorkerStatus>,
+    /// What the worker builds for (this engine's host rate and generation).
+    pub(super) request: Arc<Mutex<BuildRequest>>,
+    /// The current activation; banks of other generations are not played.
+    pub(super) generation: u64,
+    /// The worker thread (started by the first activation, joined on drop).
     pub(super) worker: Option<Worker>,
     /// The voice pool's workers (started by `activate`).
     pub(super) pool: Option<Pool>,
@@ -103,6 +111,8 @@ pub struct Engine {
     pub(super) tele_samples: u64,
     pub(super) busy: f64,
     pub(super) cpu_peak: f32,
+    /// The CPU governor (off until [`Engine::set_governor`]).
+    pub(super) governor: Governor,
 }
 
 impl Engine {
@@ -130,6 +140,14 @@ impl Engine {
             commands: cmd_rx,
             telemetry_tx: tel_tx,
             status: status.clone(),
+            request: Arc::new(Mutex::new(BuildRequest {
+                host_rate: 48_000.0,
+                generation: 0,
+                active: false,
+                first_build: false,
+                last_good: None,
+            })),
+            generation: 0,
             worker: None,
             pool: None,
             board: Arc::new(StepBoard::new()),
@@ -169,6 +187,10 @@ impl Engine {
             tele_samples: 0,
             busy: 0.0,
             cpu_peak: 0.0,
+            governor: Governor {
+                cores: Pool::default_workers() as f64 + 1.0,
+                ..Governor::default()
+            },
         };
         let handle = EngineHandle {
             params,
@@ -177,96 +199,6 @@ impl Engine {
             status,
         };
         (engine, handle)
-    }
-
-    /// Prepares for host rate `host_rate` (Hz, 8 000 to 768 000) and blocks of at most
-    /// `max_block` samples (1 to 8192 are tested; longer blocks are split internally too):
-    /// builds the voice bank for the current parameters on the calling thread (from the modal
-    /// cache this takes milliseconds; a new large basis takes seconds) and starts the worker
-    /// thread and the voice pool (`available_parallelism() - 1` workers; the `threads`
-    /// parameter limits how many share each chunk). Main thread; allocates. Calling it again
-    /// re-activates (new rate).
-    ///
-    /// Any parameter set within the table's ranges activates: if the current parameters
-    /// cannot be built (a combination the models refuse), the engine builds the last model
-    /// it played (the previous bank's parameters) or, with none, the table's defaults, and
-    /// returns `Ok(Some(error))` naming what was refused; the same message is the handle's
-    /// [`last_error`](super::EngineHandle::last_error) for the editor. `Ok(None)`: the
-    /// current parameters were built. `Err`: the host configuration itself is refused (rate
-    /// outside 8-768 kHz, `max_block` 0, a thread the OS cannot start).
-    pub fn activate(
-        &mut self,
-        host_rate: f64,
-        max_block: usize,
-    ) -> Result<Option<ParamError>, ParamError> {
-        check_closed("host_rate", host_rate, MIN_HOST_RATE, MAX_HOST_RATE)?;
-        if max_block == 0 {
-            return Err(ParamError::new("max_block", 0, "integer >= 1"));
-        }
-        self.deactivate();
-        // The pool is stopped: no job runs, a held bank can be dropped here.
-        if let Some(h) = self.held.take() {
-            self.bank.get_or_insert(h);
-        }
-        self.deferred_len = 0;
-        self.reset_pending = false;
-        // Banks still queued were built for the old rate: drop them here (main thread).
-        while self.bank_rx.try_recv().is_ok() {}
-        while self.retire_rx.try_recv().is_ok() {}
-        self.retiring = None;
-        self.pending_drop = [None, None, None];
-        self.overflow = None;
-        let mut cache = ModalCache::default();
-        let next = self.bank.as_ref().map_or(1, |b| b.id + 1);
-        let last_good = self.bank.as_ref().map(|b| b.values);
-        let wanted = self.params.snapshot();
-        let (bank, refused) =
-            build_playable(wanted, last_good, host_rate, &mut cache, &self.board, next)?;
-        if let Ok(mut slot) = self.status.error.lock() {
-            *slot = refused.as_ref().map(|e| format!("{e}; {KEPT}"));
-        }
-        let values = bank.values;
-        self.host_rate = host_rate;
-        self.max_block = max_block;
-        self.fade_len = ((FADE * host_rate) as usize).max(1);
-        self.guarded_past += self.output.guarded();
-        self.output = OutputStage::new(host_rate);
-        self.values = values;
-        self.applied = (values, self.bend);
-        self.tuning_applied = self.tuning_seen;
-        self.bank = Some(bank);
-        self.reset();
-        let worker = Worker::spawn(WorkerSetup {
-            params: self.params.clone(),
-            status: self.status.clone(),
-            host_rate,
-            bank_tx: self.bank_tx.clone(),
-            retire_rx: self.retire_rx.clone(),
-            cache,
-            board: self.board.clone(),
-            // A refused parameter set is not retried until it changes.
-            built_key: wanted.rebuild_key(),
-            next_id: next + 1,
-        })
-        .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
-        self.worker = Some(worker);
-        let pool = Pool::start(Pool::default_workers(), self.board.clone())
-            .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
-        self.pool = Some(pool);
-        Ok(refused)
-    }
-
-    /// Stops the worker thread and joins the voice pool's workers (main thread; a worker in
-    /// the middle of a voice finishes it first). The engine keeps its bank and can still
-    /// process, on the audio thread alone and without rebuilds, until re-activated.
-    pub fn deactivate(&mut self) {
-        if let Some(mut w) = self.worker.take() {
-            w.stop();
-        }
-        if let Some(mut p) = self.pool.take() {
-            p.stop();
-            self.worker_jobs_past += p.worker_jobs();
-        }
     }
 
     /// Puts every voice at rest, clears the resampler histories, controllers and telemetry
@@ -448,8 +380,13 @@ impl Engine {
 }
 
 impl Drop for Engine {
+    /// Stops the pool and joins the worker thread (main thread; a build under way finishes
+    /// first).
     fn drop(&mut self) {
         self.deactivate();
+        if let Some(mut w) = self.worker.take() {
+            w.stop();
+        }
     }
 }
 
@@ -457,39 +394,10 @@ fn db_to_gain(db: f32) -> f32 {
     10f32.powf(db / 20.0)
 }
 
-/// Builds a bank for `wanted`, or when the models refuse it, for `last_good` (the parameters
-/// of the bank that was playing) or the table's defaults: returns the bank and the refusal.
-/// Main thread (allocates). `Err` only if no candidate builds.
-fn build_playable(
-    wanted: ParamValues,
-    last_good: Option<ParamValues>,
-    host_rate: f64,
-    cache: &mut ModalCache,
-    board: &Arc<StepBoard>,
-    id: u64,
-) -> Result<(Box<Bank>, Option<ParamError>), ParamError> {
-    let refused = match Bank::build(&wanted, host_rate, cache, board, id) {
-        Ok(bank) => return Ok((Box::new(bank), None)),
-        Err(e) => e,
-    };
-    for fallback in last_good.into_iter().chain([ParamValues::defaults()]) {
-        // Keep the current non-rebuild values (gain, tuning, ...): only the model's
-        // rebuild parameters fall back.
-        let mut v = wanted;
-        v.take_rebuild_values(&fallback);
-        if let Ok(bank) = Bank::build(&v, host_rate, cache, board, id) {
-            return Ok((Box::new(bank), Some(refused)));
-        }
-        if let Ok(bank) = Bank::build(&fallback, host_rate, cache, board, id) {
-            return Ok((Box::new(bank), Some(refused)));
-        }
-    }
-    Err(refused)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::engine::bank::ModalCache;
 
     /// A string set the models refuse (a 1 km string: outside `string.length`'s range; the
     /// table's ranges never allow it, so it is written around them).
@@ -512,7 +420,7 @@ mod tests {
         let mut wanted = refused_string();
         wanted.0[ParamId::Gain.index()] = -12.0;
         let (bank, refused) =
-            build_playable(wanted, Some(good), 48_000.0, &mut cache, &board, 1).unwrap();
+            Bank::build_playable(wanted, Some(good), 48_000.0, &mut cache, &board, 1).unwrap();
         let refused = refused.expect("the refusal is returned");
         assert!(refused.field.contains("length"), "{refused}");
         // The last good model's structure with the wanted playing values.
@@ -520,11 +428,12 @@ mod tests {
         assert_eq!(bank.values.get(ParamId::Gain), -12.0);
         // With no last good model: the table's defaults.
         let (bank, refused) =
-            build_playable(wanted, None, 48_000.0, &mut cache, &board, 2).unwrap();
+            Bank::build_playable(wanted, None, 48_000.0, &mut cache, &board, 2).unwrap();
         assert!(refused.is_some());
         assert_eq!(bank.kind, super::super::kinds::ModelKind::Gong);
         // A buildable set is built as asked.
-        let (bank, refused) = build_playable(good, None, 48_000.0, &mut cache, &board, 3).unwrap();
+        let (bank, refused) =
+            Bank::build_playable(good, None, 48_000.0, &mut cache, &board, 3).unwrap();
         assert!(refused.is_none());
         assert_eq!(bank.values, good);
     }

@@ -7,6 +7,7 @@
 //! to be dropped.
 
 use super::above_mix::{above_rate, AboveMix};
+use super::governor::CostModel;
 use super::kinds::ModelKind;
 use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
@@ -65,6 +66,10 @@ pub(crate) struct Bank {
     pub above: AboveMix,
     /// The parameters it was built from (the last good model when a later set is refused).
     pub values: ParamValues,
+    /// The engine activation it was built for (see `handle::BuildRequest`).
+    pub generation: u64,
+    /// The CPU governor's cost of a work unit for this bank's voices (audio thread).
+    pub cost: CostModel,
 }
 
 impl Bank {
@@ -78,19 +83,15 @@ impl Bank {
         board: &Arc<StepBoard>,
         id: u64,
     ) -> Result<Bank, ParamError> {
-        crate::error::check_closed("host_rate", host_rate, 8000.0, 768_000.0)?;
+        crate::error::check_positive("host_rate", host_rate)?;
         let kind = ModelKind::from_params(v);
         let voices_n = v.index_of(ParamId::Polyphony).max(1);
         let modes = v.index_of(ParamId::Modes).max(1);
         let mut voices = Vec::with_capacity(voices_n);
-        let (norm, sim_rate);
+        let norm;
+        let sim_rate = Self::sim_rate_of(v);
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
-            sim_rate = plate_sim_rate(
-                v.get(ParamId::BandLimit) as f64,
-                v.get(ParamId::SimRate) as f64,
-                v.index_of(ParamId::Scheme),
-            );
             voices = plate_voices(
                 kind,
                 v,
@@ -101,7 +102,6 @@ impl Bank {
             )?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
-            sim_rate = v.get(ParamId::SimRate) as f64;
             let length = v.get(ParamId::Size) as f64;
             let mu = v.get(ParamId::LinearDensity) as f64;
             // The instrument's string as a specification, validated and built as a scene's
@@ -204,7 +204,53 @@ impl Bank {
             above,
             norm,
             values: *v,
+            generation: 0,
+            cost: CostModel::default(),
         })
+    }
+
+    /// Builds a bank for `wanted`, or when the models refuse it, for `last_good` (the parameters
+    /// of the bank that was playing) or the table's defaults: returns the bank and the refusal.
+    /// Worker thread (allocates). `Err` only if no candidate builds.
+    pub fn build_playable(
+        wanted: ParamValues,
+        last_good: Option<ParamValues>,
+        host_rate: f64,
+        cache: &mut ModalCache,
+        board: &Arc<StepBoard>,
+        id: u64,
+    ) -> Result<(Box<Self>, Option<ParamError>), ParamError> {
+        let refused = match Self::build(&wanted, host_rate, cache, board, id) {
+            Ok(bank) => return Ok((Box::new(bank), None)),
+            Err(e) => e,
+        };
+        for fallback in last_good.into_iter().chain([ParamValues::defaults()]) {
+            // Keep the current non-rebuild values (gain, tuning, ...): only the model's
+            // rebuild parameters fall back.
+            let mut v = wanted;
+            v.take_rebuild_values(&fallback);
+            if let Ok(bank) = Self::build(&v, host_rate, cache, board, id) {
+                return Ok((Box::new(bank), Some(refused)));
+            }
+            if let Ok(bank) = Self::build(&fallback, host_rate, cache, board, id) {
+                return Ok((Box::new(bank), Some(refused)));
+            }
+        }
+        Err(refused)
+    }
+
+    /// The simulation rate (Hz) a bank of the parameters `v` runs at: a plate's from its band
+    /// limit and scheme ([`plate_sim_rate`]), a string's the `sim_rate` parameter. Any thread.
+    pub fn sim_rate_of(v: &ParamValues) -> f64 {
+        if ModelKind::from_params(v).is_plate() {
+            plate_sim_rate(
+                v.get(ParamId::BandLimit) as f64,
+                v.get(ParamId::SimRate) as f64,
+                v.index_of(ParamId::Scheme),
+            )
+        } else {
+            v.get(ParamId::SimRate) as f64
+        }
     }
 
     /// Latency of the bank in host samples (the resampler's half-width).

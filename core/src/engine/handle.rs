@@ -1,17 +1,24 @@
 //! The control side of the engine: [`EngineHandle`] (GUI commands in, telemetry out, worker
 //! status) and the worker thread that builds voice banks.
 //!
-//! The worker polls [`SharedParams`] every few milliseconds; when the values of the
-//! parameters that trigger a rebuild ([`super::ParamInfo::rebuild`]) have changed and stayed
-//! unchanged for [`DEBOUNCE`] (a knob being dragged), it builds a new bank and sends it to the
-//! audio thread through a bounded crossbeam channel (lock-free `try_recv` on the audio side).
-//! Banks the audio thread has replaced come back through a second channel and are dropped
-//! here, never on the audio thread.
+//! The worker lives as long as its engine (started by the first activation, joined when the
+//! engine is dropped), so an activation never waits for it and its in-memory modal cache
+//! outlives activations. Each activation is a new *generation* ([`BuildRequest`]): the worker
+//! builds the first bank of a generation at once (the activation's build, or the last model
+//! that builds when the parameters are refused) and tags every bank with its generation; the
+//! audio thread takes only banks of its own. Within a generation the worker polls
+//! [`SharedParams`] every few milliseconds; when the values of the parameters that trigger a
+//! rebuild ([`super::ParamInfo::rebuild`]) have changed and stayed unchanged for [`DEBOUNCE`]
+//! (a knob being dragged), it builds a new bank and sends it to the audio thread through a
+//! bounded crossbeam channel (lock-free `try_recv` on the audio side). Banks the audio thread
+//! has replaced come back through a second channel and are dropped here, never on the audio
+//! thread. While the engine is deactivated the worker builds nothing.
 
 use super::bank::{Bank, ModalCache};
 use super::events::GuiCommand;
 use super::params::{ParamValues, SharedParams};
 use super::telemetry::Telemetry;
+use crate::error::ParamError;
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 use ringbuf::traits::{Consumer, Producer};
 use ringbuf::{HeapCons, HeapProd};
@@ -34,10 +41,37 @@ const POLL: Duration = Duration::from_millis(4);
 pub(crate) struct WorkerStatus {
     /// A build is in progress.
     pub rebuilding: AtomicBool,
-    /// Banks built by the worker (the activation's own build excluded).
+    /// Banks built by the worker (the activations' own builds excluded).
     pub built: AtomicU64,
     /// The last build error (worker writes, GUI reads; never the audio thread).
     pub error: Mutex<Option<String>>,
+    /// The outcome of the latest generation's first build, with its generation: `Ok(None)`
+    /// built as asked, `Ok(Some(e))` refused and the last good model or the defaults built,
+    /// `Err(e)` nothing built (worker writes, the activating main thread reads).
+    pub outcome: Mutex<Option<(u64, BuildOutcome)>>,
+}
+
+/// The outcome of a generation's first build: `Ok(None)` built as asked, `Ok(Some(refusal))`
+/// a fallback built, `Err` nothing built.
+pub(crate) type BuildOutcome = Result<Option<ParamError>, ParamError>;
+
+/// What the worker builds for: written by the engine's `activate`/`deactivate` (main thread),
+/// read by the worker at every poll (never by the audio thread).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BuildRequest {
+    /// Host rate of the generation's banks (Hz).
+    pub host_rate: f64,
+    /// The activation this request belongs to (banks carry it; the audio thread takes only
+    /// its own generation's).
+    pub generation: u64,
+    /// The engine is active: the worker builds (deactivated: it only drops returned banks).
+    pub active: bool,
+    /// The generation needs a first build (false: the engine kept a bank of these parameters
+    /// at this rate).
+    pub first_build: bool,
+    /// The parameters of the bank the engine played last (the fallback when the wanted set is
+    /// refused).
+    pub last_good: Option<ParamValues>,
 }
 
 /// GUI / controller side of an [`Engine`](super::Engine): send commands, read telemetry,
@@ -101,16 +135,23 @@ pub(crate) struct Worker {
 pub(crate) struct WorkerSetup {
     pub params: Arc<SharedParams>,
     pub status: Arc<WorkerStatus>,
-    pub host_rate: f64,
+    /// The engine's current request (main thread writes, the worker reads).
+    pub request: Arc<Mutex<BuildRequest>>,
     pub bank_tx: Sender<Box<Bank>>,
     pub retire_rx: Receiver<Box<Bank>>,
     pub cache: ModalCache,
     /// The voice pool's board for split steps (the banks' large plate voices offer on it).
     pub board: Arc<crate::models::plate::StepBoard>,
-    /// Rebuild key of the bank the audio thread has.
+    /// Rebuild key of the bank the audio thread has (or will have: the last one sent).
     pub built_key: ParamValues,
     /// Identifier of the next bank.
     pub next_id: u64,
+}
+
+/// The worker's view of its current generation.
+struct Current {
+    host_rate: f64,
+    generation: u64,
 }
 
 impl Worker {
@@ -144,57 +185,131 @@ impl Drop for Worker {
 
 fn run(mut s: WorkerSetup, stop: &AtomicBool) {
     let mut pending: Option<(ParamValues, Instant)> = None;
+    let mut current = Current {
+        host_rate: 0.0,
+        generation: 0,
+    };
     while !stop.load(Ordering::Acquire) {
         while let Ok(old) = s.retire_rx.try_recv() {
             drop(old);
         }
-        let v = s.params.snapshot();
-        let key = v.rebuild_key();
-        if key == s.built_key {
+        let request = match s.request.lock() {
+            Ok(r) => *r,
+            Err(p) => *p.into_inner(),
+        };
+        if request.active && request.generation != current.generation {
+            current = Current {
+                host_rate: request.host_rate,
+                generation: request.generation,
+            };
             pending = None;
-        } else {
-            match pending {
-                Some((k, since)) if k == key && since.elapsed() >= DEBOUNCE => {
-                    pending = None;
-                    build_and_send(&mut s, &v, stop);
-                    s.built_key = key;
+            let wanted = s.params.snapshot();
+            s.built_key = wanted.rebuild_key();
+            if request.first_build {
+                first_build(&mut s, &current, wanted, request.last_good, stop);
+            } else if let Ok(mut slot) = s.status.outcome.lock() {
+                *slot = Some((current.generation, Ok(None)));
+            }
+        } else if request.active {
+            let v = s.params.snapshot();
+            let key = v.rebuild_key();
+            if key == s.built_key {
+                pending = None;
+            } else {
+                match pending {
+                    Some((k, since)) if k == key && since.elapsed() >= DEBOUNCE => {
+                        pending = None;
+                        build_and_send(&mut s, &current, &v, stop);
+                        s.built_key = key;
+                    }
+                    Some((k, _)) if k == key => {}
+                    _ => pending = Some((key, Instant::now())),
                 }
-                Some((k, _)) if k == key => {}
-                _ => pending = Some((key, Instant::now())),
             }
         }
         std::thread::sleep(POLL);
     }
 }
 
-fn build_and_send(s: &mut WorkerSetup, v: &ParamValues, stop: &AtomicBool) {
+/// The first bank of a generation: the wanted parameters, or the last good model or the
+/// defaults when they are refused ([`Bank::build_playable`]); the outcome goes to
+/// [`WorkerStatus::outcome`] and the refusal to the error the editor shows.
+fn first_build(
+    s: &mut WorkerSetup,
+    current: &Current,
+    wanted: ParamValues,
+    last_good: Option<ParamValues>,
+    stop: &AtomicBool,
+) {
     s.status.rebuilding.store(true, Ordering::Release);
     let id = s.next_id;
     s.next_id += 1;
-    match Bank::build(v, s.host_rate, &mut s.cache, &s.board, id) {
-        Ok(bank) => {
+    let built = Bank::build_playable(
+        wanted,
+        last_good,
+        current.host_rate,
+        &mut s.cache,
+        &s.board,
+        id,
+    );
+    let (bank, outcome) = match built {
+        Ok((bank, refused)) => (Some(bank), Ok(refused)),
+        Err(e) => (None, Err(e)),
+    };
+    if let Ok(mut slot) = s.status.error.lock() {
+        *slot = match &outcome {
+            Ok(None) => None,
+            Ok(Some(e)) | Err(e) => Some(format!("{e}; {KEPT}")),
+        };
+    }
+    // The outcome is published before the bank, so a blocking activation that receives the
+    // bank reads its outcome.
+    if let Ok(mut slot) = s.status.outcome.lock() {
+        *slot = Some((current.generation, outcome));
+    }
+    if let Some(mut bank) = bank {
+        bank.generation = current.generation;
+        send(s, bank, stop);
+    }
+    s.status.rebuilding.store(false, Ordering::Release);
+}
+
+/// Sends `bank` to the audio thread, waiting while the channel holds an earlier bank the
+/// audio thread has not taken (dropping returned banks meanwhile) unless the worker is asked
+/// to stop or the engine's generation moves on.
+fn send(s: &mut WorkerSetup, mut bank: Box<Bank>, stop: &AtomicBool) {
+    loop {
+        match s.bank_tx.try_send(bank) {
+            Ok(()) | Err(TrySendError::Disconnected(_)) => return,
+            Err(TrySendError::Full(b)) => {
+                bank = b;
+                let moved_on = s
+                    .request
+                    .lock()
+                    .is_ok_and(|r| r.generation != bank.generation || !r.active);
+                if stop.load(Ordering::Acquire) || moved_on {
+                    return;
+                }
+                while let Ok(old) = s.retire_rx.try_recv() {
+                    drop(old);
+                }
+                std::thread::sleep(POLL);
+            }
+        }
+    }
+}
+
+fn build_and_send(s: &mut WorkerSetup, current: &Current, v: &ParamValues, stop: &AtomicBool) {
+    s.status.rebuilding.store(true, Ordering::Release);
+    let id = s.next_id;
+    s.next_id += 1;
+    match Bank::build(v, current.host_rate, &mut s.cache, &s.board, id) {
+        Ok(mut bank) => {
             if let Ok(mut e) = s.status.error.lock() {
                 *e = None;
             }
-            let mut bank = Box::new(bank);
-            loop {
-                match s.bank_tx.try_send(bank) {
-                    Ok(()) => break,
-                    Err(TrySendError::Disconnected(_)) => break,
-                    Err(TrySendError::Full(b)) => {
-                        // The audio thread has not taken the previous bank yet (or is not
-                        // running): keep dropping returned banks and retry.
-                        bank = b;
-                        if stop.load(Ordering::Acquire) {
-                            break;
-                        }
-                        while let Ok(old) = s.retire_rx.try_recv() {
-                            drop(old);
-                        }
-                        std::thread::sleep(POLL);
-                    }
-                }
-            }
+            bank.generation = current.generation;
+            send(s, Box::new(bank), stop);
             s.status.built.fetch_add(1, Ordering::AcqRel);
         }
         Err(e) => {

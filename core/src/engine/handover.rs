@@ -53,7 +53,7 @@ impl Engine {
         let Ok(new) = self.bank_rx.try_recv() else {
             return;
         };
-        if new.host_rate != self.host_rate {
+        if new.generation != self.generation || new.host_rate != self.host_rate {
             self.retire(new);
             return;
         }

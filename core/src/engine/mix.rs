@@ -10,6 +10,7 @@
 //! Threads: audio thread; the jobs run on the pool's workers and the audio thread.
 
 use super::bank::Bank;
+use super::governor::FADE_CHUNKS;
 use super::pool::{Lanes, Pool};
 use super::voice::Voice;
 use std::time::Duration;
@@ -137,9 +138,15 @@ pub(crate) fn run_bank(
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 let v = unsafe { &mut *base.add(i) };
                 if ok {
+                    b.cost.observe(v.work(), m, v.job_seconds);
                     // The note's key-tracked level, volume and pan expressions, outside the
-                    // voice's ceiling check (which bounds the physics, not the mix).
-                    let g = (v.level * f64::from(v.note_volume)) as f32;
+                    // voice's ceiling check (which bounds the physics, not the mix); a voice
+                    // the governor ends fades out over its last chunks.
+                    let fade = match v.fading {
+                        0 => 1.0,
+                        k => f32::from(k - 1) / f32::from(FADE_CHUNKS),
+                    };
+                    let g = fade * (v.level * f64::from(v.note_volume)) as f32;
                     let p = v.note_pan;
                     let (gl, gr) = (g * (2.0 * (1.0 - p)).min(1.0), g * (2.0 * p).min(1.0));
                     for k in 0..m {
@@ -149,6 +156,12 @@ pub(crate) fn run_bank(
                     b.above.add((gl, gr), above);
                 }
                 settle(v, ok, t);
+                if v.fading > 0 {
+                    v.fading -= 1;
+                    if v.fading == 0 {
+                        v.reset();
+                    }
+                }
             }
             None => t.late += 1,
         }

@@ -25,7 +25,7 @@
 //! ```
 //!
 //! - [`Engine`] (audio thread): [`Engine::new`] → ([`Engine`], [`EngineHandle`]);
-//!   [`Engine::activate`]`(host_rate, max_block)` (8-768 kHz; builds the first bank, or the
+//!   [`Engine::activate`]`(host_rate, max_block)` (any positive rate; builds the first bank, or the
 //!   last model that built when the parameters are refused; starts the worker; main thread); [`Engine::reset`]; [`Engine::process`] /
 //!   [`Engine::process_events`] (`&[Event]` sorted by offset); direct note calls
 //!   [`Engine::note_on`], [`Engine::note_off`], [`Engine::pitch_bend`], [`Engine::mod_wheel`],
@@ -51,6 +51,10 @@
 //! [`crate::models::string::NEWTON_CAP`] Newton iterations per contact node, after which the
 //! step completes with the capped iterate and the event is counted in the telemetry).
 //!
+//! With the CPU governor on ([`Engine::set_governor`], a live host; [`governor`]) a note's
+//! band comes down, and the quietest voices end, so that the voices' measured work stays
+//! within the `cpu_budget` parameter and blocks within real time.
+//!
 //! The voices of a chunk run in parallel on the voice pool (`engine/pool.rs`): `activate` starts
 //! `available_parallelism() - 1` worker threads, the `threads` parameter ([`ParamId::Threads`],
 //! read per chunk; 0 = every core, 1 = the audio thread alone) sets how many threads share a
@@ -63,7 +67,8 @@
 //! either (checked by `tests/engine/engine_threads.rs`).
 //!
 //! Model builds (modal bases and coupling tensors through the on-disk cache, string grids and
-//! obstacles, the voice pool) run on the worker thread started by `activate`: it polls the
+//! obstacles, the voice pool) run on the worker thread (started by the first activation,
+//! joined on drop; [`Engine::activate_realtime`] returns without waiting for it): it polls the
 //! parameters whose [`ParamInfo::rebuild`] flag is set, debounces 30 ms, builds a bank and
 //! sends it through a bounded crossbeam channel; the audio thread takes it with `try_recv` at
 //! a chunk boundary, cross-fades the old bank out over 20 ms (sounding notes of the old model
@@ -106,9 +111,11 @@
 //! bank costs only a buffer fill. Note to pitch, release and the physical mapping: [`voice`].
 
 mod above_mix;
+mod activation;
 mod audio;
 mod bank;
 mod events;
+pub mod governor;
 mod handle;
 mod handover;
 mod kinds;

@@ -3,9 +3,11 @@
 //! voices read ([`Physics`]) and the retune of sounding voices when playing values change.
 
 use super::audio::{Engine, RETUNE_INTERVAL};
+use super::bank::Bank;
 use super::events::{EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
+use super::governor::FADE_CHUNKS;
 use super::params::{ParamId, PARAMS};
-use super::voice::{Physics, VoiceModel};
+use super::voice::{Physics, Voice, VoiceModel};
 use ringbuf::traits::Consumer;
 
 impl Engine {
@@ -39,6 +41,7 @@ impl Engine {
             values: self.values,
             bend: self.bend,
             tuning: self.key_tuning,
+            work_cap: f64::INFINITY,
         }
     }
 
@@ -128,8 +131,43 @@ impl Engine {
                 })
             });
         if let Some(i) = slot {
-            if !b.voices[i].start(&p, key, vel, wheel, frame) {
+            let mut p = p;
+            if let Some(budget) = self.governor.budget(self.values.get(ParamId::CpuBudget)) {
+                let (cap, shed) = fit_note(b, i, budget);
+                p.work_cap = cap;
+                self.governor.shed += shed;
+            }
+            let v = &mut b.voices[i];
+            if !v.start(&p, key, vel, wheel, frame) {
                 self.refused += 1;
+            }
+            if let VoiceModel::Plate(pv) = &mut v.model {
+                self.governor.reduced += u64::from(std::mem::take(&mut pv.governed));
+            }
+        }
+    }
+
+    /// The CPU governor's watch (`engine/governor.rs`): after a block of `spent` wall seconds
+    /// over `frames` host samples, ends the quietest voice if the blocks overrun. Audio thread.
+    pub(super) fn watch_load(&mut self, spent: f64, frames: usize) {
+        let duration = frames as f64 / self.host_rate;
+        if !self
+            .governor
+            .watch(spent, duration, frames as u64, self.host_rate)
+        {
+            return;
+        }
+        if let Some(b) = self.bank.as_mut() {
+            if b.voices
+                .iter()
+                .filter(|v| v.active && v.fading == 0)
+                .count()
+                > 1
+            {
+                if let Some(v) = quietest(&mut b.voices, usize::MAX) {
+                    v.fading = FADE_CHUNKS;
+                    self.governor.shed += 1;
+                }
             }
         }
     }
@@ -274,4 +312,53 @@ impl Engine {
             }
         }
     }
+}
+
+/// The work cap for a note about to start on voice `slot` of `b` within `budget` seconds of
+/// work per second of audio, and how many other voices were ended to make room (only when
+/// not even a plate's smallest tier fits; `engine/governor.rs`). Audio thread.
+fn fit_note(b: &mut Bank, slot: usize, budget: f64) -> (f64, u64) {
+    let rate = b.sim_rate;
+    let cost = b.cost;
+    let smallest = match &b.voices[slot].model {
+        VoiceModel::Plate(pv) => pv.data.tier_work.last().copied().unwrap_or(0.0),
+        VoiceModel::String(_) => return (f64::INFINITY, 0),
+    };
+    let mut shed = 0;
+    loop {
+        let others: f64 = b
+            .voices
+            .iter()
+            .enumerate()
+            .filter(|(k, v)| *k != slot && v.active && v.fading == 0)
+            .map(|(_, v)| cost.load(v.work(), rate))
+            .sum();
+        let cap = (budget - others) / cost.load(1.0, rate);
+        if cap >= smallest {
+            return (cap, shed);
+        }
+        match quietest(&mut b.voices, slot) {
+            Some(v) => {
+                v.fading = FADE_CHUNKS;
+                shed += 1;
+            }
+            // Nothing left to end: the note takes the smallest tier.
+            None => return (cap, shed),
+        }
+    }
+}
+
+/// The quietest sounding voice not already fading (released voices first), other than
+/// `except`. Audio thread.
+fn quietest(voices: &mut [Voice], except: usize) -> Option<&mut Voice> {
+    voices
+        .iter_mut()
+        .enumerate()
+        .filter(|(k, v)| *k != except && v.active && v.fading == 0)
+        .min_by(|(_, x), (_, y)| {
+            (!x.released(), x.energy)
+                .partial_cmp(&(!y.released(), y.energy))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })
+        .map(|(_, v)| v)
 }

@@ -27,6 +27,8 @@
 
 /// Look-ahead of the limiter (s).
 pub const LOOKAHEAD: f64 = 0.0015;
+/// Longest look-ahead in samples (see [`OutputStage::new`]).
+const MAX_LOOKAHEAD_SAMPLES: usize = 1 << 16;
 /// Limiter ceiling (full scale): -0.3 dBFS.
 pub const CEILING: f32 = 0.966_050_9;
 /// Level under which the low cut's decaying tail after silent input is set to 0 (-200 dBFS).
@@ -120,7 +122,9 @@ pub struct OutputStage {
 impl OutputStage {
     /// A stage for host rate `fs` (Hz). Main thread (allocates).
     pub fn new(fs: f64) -> Self {
-        let lookahead = ((LOOKAHEAD * fs).round() as usize).max(1);
+        // At most 2^16 samples: above 43.7 MHz the look-ahead shortens (the guard still
+        // bounds every sample) rather than allocate without bound.
+        let lookahead = ((LOOKAHEAD * fs).round() as usize).clamp(1, MAX_LOOKAHEAD_SAMPLES);
         Self {
             fs,
             low_cut: LowCut::new(),

@@ -254,6 +254,8 @@ params! {
         "Plates: how strongly the top half-octave of simulated modes is damped when a loud strike's cascade piles energy up there, as the modes above the band would carry it away (1: the strength calibrated on the crash cymbal against its resolved model; 0: the plain truncation).";
     BandAbove, "band_above", "Band above", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES }, false,
         "Plates: the linear modes of the plate above its simulated band, up to 20 kHz (or 0.45 of the host rate), sounding with exactly the energy the cascade closure absorbs (silent while the closure is off or idle). Off: nothing sounds above the band.";
+    CpuBudget, "cpu_budget", "CPU budget", "cores", 0.0, 64.0, 0.0, F, false,
+        "Live play (the plugin in a real-time host): the voices' measured work may use this many cores' time (0: 70 % of the machine's). A note that would pass it starts with a narrower band (fewer modes), and when even that does not fit, or blocks overrun, the quietest voice ends; every reduction is counted and shown. Offline renders ignore it.";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

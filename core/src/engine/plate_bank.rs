@@ -197,19 +197,6 @@ pub(crate) fn plate_voices(
     let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
     let frame = frame(kind, &basis, v);
     let above = AboveModes::build(&key, above_count(&basis, v)?, above_points(kind, &frame));
-    let data = Arc::new(PlateData {
-        lambda2: basis.lambda2().to_vec(),
-        zeta4: basis.zeta4().to_vec(),
-        linear: n_psi == 0,
-        frame,
-        above,
-        snapshot: snapshot_rows(kind, &basis),
-        poisson: m.poisson,
-        tiers: tiers.clone(),
-        band_hz: v.get(ParamId::BandLimit) as f64,
-        shape_dome,
-        shape_boss,
-    });
     let scheme = match v.index_of(ParamId::Scheme) {
         0 => PlateScheme::ConservativeTheta1,
         1 => PlateScheme::ConservativeExact,
@@ -231,6 +218,27 @@ pub(crate) fn plate_voices(
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
+    // The governor's work of one step per tier: the stored tensor entries (the kernels'
+    // multiply-adds) plus the modes (the linear part and the pickups).
+    let tier_work = tiers
+        .iter()
+        .zip(&couplings)
+        .map(|(&(n, _), c)| (c.nnz() + n) as f64)
+        .collect();
+    let data = Arc::new(PlateData {
+        lambda2: basis.lambda2().to_vec(),
+        zeta4: basis.zeta4().to_vec(),
+        linear: n_psi == 0,
+        frame,
+        above,
+        snapshot: snapshot_rows(kind, &basis),
+        poisson: m.poisson,
+        tiers: tiers.clone(),
+        tier_work,
+        band_hz: v.get(ParamId::BandLimit) as f64,
+        shape_dome,
+        shape_boss,
+    });
     let mut voices = Vec::with_capacity(voices_n);
     for _ in 0..voices_n {
         let mut models = Vec::with_capacity(tiers.len());

@@ -222,7 +222,12 @@ impl Lanes {
                     let (al, ar) = (&mut al[..above_len], &mut ar[..above_len]);
                     al.fill(0.0);
                     ar.fill(0.0);
-                    (*v).run(bl, br, gain) && (*v).run_above(al, ar, gain)
+                    // The job's wall time, for the CPU governor (two clock reads per voice
+                    // and chunk; no allocation).
+                    let t0 = Instant::now();
+                    let ok = (*v).run(bl, br, gain) && (*v).run_above(al, ar, gain);
+                    (*v).job_seconds = t0.elapsed().as_secs_f64();
+                    ok
                 };
                 l.ok.store(ok, Ordering::Relaxed);
                 l.state.store(DONE, Ordering::Release);

@@ -7,6 +7,7 @@
 use super::audio::Engine;
 use super::bank::Bank;
 use super::kinds::ModelKind;
+use super::resample::Resampler;
 use super::telemetry::{Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
 use crate::models::source::EnergyTerms;
 use ringbuf::traits::Producer;
@@ -74,9 +75,16 @@ impl Engine {
     /// Latency in host samples (the resampler's half-width plus the output limiter's look-ahead;
     /// report it to the host).
     pub fn latency_samples(&self) -> u32 {
-        self.any_bank()
-            .map_or(0, |b| b.latency_host().round() as u32)
-            + self.output.latency() as u32
+        // Before the first bank of an activation arrives: the latency it will have (the
+        // resampler's half-width for the current parameters' simulation rate).
+        let bank = self.any_bank().map_or_else(
+            || {
+                let sim = Bank::sim_rate_of(&self.values);
+                Resampler::half_width(sim, self.host_rate) as f64 * self.host_rate / sim
+            },
+            |b| b.latency_host(),
+        );
+        bank.round() as u32 + self.output.latency() as u32
     }
 
     /// Identifier of the voice bank in use (0 before activation; changes with every swap).
@@ -183,6 +191,7 @@ impl Engine {
         if dur > 0.0 {
             self.cpu_peak = self.cpu_peak.max((spent / dur) as f32);
         }
+        self.watch_load(spent, left.len());
         if self.frame >= self.tele_next {
             self.tele_next = self.frame + (self.host_rate / TELEMETRY_RATE) as u64;
             self.send_telemetry();
@@ -199,6 +208,8 @@ impl Engine {
             cpu_peak: self.cpu_peak,
             threads: self.threads_used,
             late_jobs: self.late,
+            governor_reduced: self.governor.reduced,
+            governor_shed: self.governor.shed,
             rebuilding: self.status.rebuilding.load(Ordering::Acquire),
             newton_cap_hits: self.newton_cap_hits,
             diverged: self.diverged,

@@ -72,9 +72,11 @@ impl Resampler {
     pub fn new(fs_in: f64, fs_out: f64, max_out: usize) -> Self {
         let ratio = fs_in / fs_out;
         let fc = CUTOFF * (fs_out / fs_in).min(1.0);
-        let half = (ZERO_CROSSINGS / fc).ceil() as usize;
-        // About 256 table points per zero crossing.
-        let per_sample = (256.0 * fc).max(16.0);
+        let half = Self::half_width(fs_in, fs_out);
+        // 256 table points per zero crossing (at least 16 per input sample while the cutoff is
+        // above 1/16 of the input rate, where both agree; far below, at host rates of a few
+        // hundred hertz, the kernel spans thousands of input samples and is as smooth).
+        let per_sample = 256.0 * fc;
         let len = (2.0 * half as f64 * per_sample).ceil() as usize + 2;
         let i0b = bessel_i0(KAISER_BETA);
         let table: Vec<f32> = (0..len)
@@ -108,6 +110,13 @@ impl Resampler {
             max_out,
             zero_run: usize::MAX / 2,
         }
+    }
+
+    /// The kernel's half-width `R` in input samples for rates `fs_in` to `fs_out` (Hz): the
+    /// latency of a resampler between them, known before it is built. Any thread.
+    pub fn half_width(fs_in: f64, fs_out: f64) -> usize {
+        let fc = CUTOFF * (fs_out / fs_in).min(1.0);
+        (ZERO_CROSSINGS / fc).ceil() as usize
     }
 
     /// Latency in input (simulation) samples: output sample `j` is the input signal at time

@@ -90,6 +90,11 @@ pub struct Telemetry {
     /// Voice jobs still running on a worker when the audio thread's bounded wait ended,
     /// since activation (their chunks were left out of the mix; see `Engine::set_job_wait`).
     pub late_jobs: u64,
+    /// Notes the CPU governor started with a narrower band than asked, since the engine was
+    /// created (`engine/governor.rs`).
+    pub governor_reduced: u64,
+    /// Voices the CPU governor ended to make room or because blocks overran.
+    pub governor_shed: u64,
     /// Whether the worker is building a new voice bank.
     pub rebuilding: bool,
     /// Identifier of the voice bank in use (increments with every swap).
@@ -126,6 +131,8 @@ impl Default for Telemetry {
             cpu_peak: 0.0,
             threads: 1,
             late_jobs: 0,
+            governor_reduced: 0,
+            governor_shed: 0,
             rebuilding: false,
             bank: 0,
             newton_cap_hits: 0,

@@ -126,6 +126,7 @@ const SECTIONS: [Section; 7] = {
                 Scheme,
                 Polyphony,
                 Threads,
+                CpuBudget,
             ],
             open: false,
             strings: None,

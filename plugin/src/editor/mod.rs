@@ -91,8 +91,15 @@ impl EditorApp {
             ui.separator();
             if self.telemetry.rebuilding {
                 ui.spinner();
+                // Bank 0: nothing built yet at this activation (silent until it is ready);
+                // otherwise the last good model plays meanwhile.
+                let text = if self.telemetry.bank == 0 {
+                    "BUILDING MODEL · silent until it is ready"
+                } else {
+                    "REBUILDING MODEL · the last model plays"
+                };
                 ui.label(
-                    RichText::new("REBUILDING MODEL")
+                    RichText::new(text)
                         .strong()
                         .color(Color32::from_rgb(255, 170, 40)),
                 );
@@ -120,6 +127,21 @@ impl EditorApp {
                     plural(t.late_jobs as usize, "job", "jobs"),
                 ),
             );
+            // The CPU governor's reductions (the `cpu_budget` parameter).
+            if t.governor_reduced + t.governor_shed > 0 {
+                ui.label(
+                    RichText::new(format!(
+                        "CPU budget: {} narrowed, {} ended",
+                        plural(t.governor_reduced as usize, "note", "notes"),
+                        plural(t.governor_shed as usize, "voice", "voices"),
+                    ))
+                    .color(Color32::from_rgb(255, 170, 40)),
+                )
+                .on_hover_text(
+                    "Notes started with a narrower band, and voices ended, to keep within the \
+                     CPU budget (Quality panel)",
+                );
+            }
         });
         if let Some(e) = &self.build_error {
             ui.colored_label(

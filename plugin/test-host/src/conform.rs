@@ -4,7 +4,7 @@
 //!
 //! Cases, each reported as one `PASS` or `FAIL` line with its figures and the process CPU time
 //! it took:
-//! - `rate`: activation at host rates from 8 kHz to 384 kHz must succeed, and a note (key 60,
+//! - `rate`: activation at host rates from 1234.57 Hz to 1.5 MHz must succeed, and a note (key 60,
 //!   velocity 1, 0.5 s) must come out finite, at most 0 dBFS and not silent;
 //! - `block`: fixed block sizes 1 to 8192 (the maximum given at activation) and block sizes
 //!   varying within one run, shorter than the maximum: every frame asked for written, finite,
@@ -14,7 +14,12 @@
 //! - `state` (in `conform_params.rs`): save, load into a fresh instance, compare values,
 //!   re-saved bytes and renders;
 //! - `flush`: `params.flush` without processing (inactive, and active but not processing);
-//! - `silence`: `process` before any note gives finite silence.
+//! - `silence`: `process` before any note gives finite silence;
+//! - `events` and `activate` (in `conform_live.rs`): note ends in time order across a block
+//!   split, and `activate()` within 20 ms at the 99th percentile on a real-time instance.
+//!
+//! Every other case runs the plugin in CLAP's offline render mode (a bounce: activation waits
+//! for the model, so a note at the first sample sounds and renders repeat).
 //!
 //! Every sample must lie within ±1.0: the engine's output stage bounds it at 0 dBFS whatever
 //! the parameters (the validators' checks are finiteness; the bound is this product's own).
@@ -32,11 +37,23 @@ use crate::conform_render::{
 };
 use crate::{parse_num, path_arg};
 
-/// Host rates of the `rate` cases, Hz: the telephone and low rates, the CD and video
-/// families and their multiples, up to 384 kHz.
-pub(crate) const RATES: [f64; 10] = [
-    8_000.0, 11_025.0, 16_000.0, 22_050.0, 44_100.0, 48_000.0, 96_000.0, 176_400.0, 192_000.0,
+/// Host rates of the `rate` cases, Hz: clap-validator's fractional 1234.57 Hz (refused before
+/// any positive rate activated), the telephone and low rates, the CD and video families and
+/// their multiples, up to 1.5 MHz.
+pub(crate) const RATES: [f64; 13] = [
+    1_234.567_7,
+    8_000.0,
+    11_025.0,
+    16_000.0,
+    22_050.0,
+    44_100.0,
+    48_000.0,
+    96_000.0,
+    176_400.0,
+    192_000.0,
     384_000.0,
+    768_000.0,
+    1_500_000.0,
 ];
 
 /// Fixed block sizes of the `block` cases (each also the maximum given at activation): the
@@ -52,14 +69,15 @@ pub struct ConformOptions {
     pub seed: u64,
     /// How many random parameter sets the `params` cases try.
     pub permutations: usize,
-    /// Case groups to run (`rate`, `block`, `params`, `bounds`, `state`, `flush`, `silence`);
+    /// Case groups to run (`rate`, `block`, `events`, `params`, `bounds`, `state`, `flush`,
+    /// `silence`, `activate`);
     /// empty: all.
     pub only: Vec<String>,
 }
 
 /// The case groups, in the order they run.
-pub(crate) const GROUPS: [&str; 7] = [
-    "silence", "flush", "rate", "block", "state", "bounds", "params",
+pub(crate) const GROUPS: [&str; 9] = [
+    "silence", "flush", "rate", "block", "events", "state", "bounds", "params", "activate",
 ];
 
 impl ConformOptions {
@@ -146,6 +164,8 @@ pub fn conform(o: &ConformOptions) -> Result<(), String> {
             "state" => crate::conform_params::state(&s, o.seed, &mut run),
             "bounds" => crate::conform_params::bounds(&s, &mut run),
             "params" => crate::conform_params::permutations(&s, o.seed, o.permutations, &mut run),
+            "events" => crate::conform_live::events(&s, &mut run),
+            "activate" => crate::conform_live::activate(&s, o.seed, o.permutations, &mut run),
             _ => unreachable!("GROUPS lists the groups"),
         }
         println!("group {group}: {:.1} s CPU", process_cpu_seconds() - g0);

@@ -145,7 +145,7 @@ pub(crate) fn bounds(s: &Session, run: &mut Runner) {
 }
 
 /// The CLAP value the plugin gives for display text `text` of parameter `name`.
-fn clap_value(
+pub(crate) fn clap_value(
     s: &Session,
     inst: &mut PluginInstance<TestHost>,
     name: &str,

@@ -24,8 +24,8 @@ pub(crate) const SILENT: f64 = 1e-4;
 
 /// A loaded plugin file, its first plugin and its parameter list.
 pub(crate) struct Session {
-    entry: PluginEntry,
-    id: CString,
+    pub(crate) entry: PluginEntry,
+    pub(crate) id: CString,
     /// The parameters as the plugin describes them (CLAP ranges: nice-plug gives continuous
     /// parameters as normalised [0, 1] and stepped ones as 0..=steps).
     pub params: Vec<Param>,

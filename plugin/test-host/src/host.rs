@@ -2,6 +2,7 @@
 //! second instance, play a scripted performance and write the output to a WAV file.
 
 use clack_extensions::params::{ParamInfoBuffer, ParamInfoFlags, PluginParams};
+use clack_extensions::render::{PluginRender, RenderMode};
 use clack_extensions::state::PluginState;
 use clack_host::events::event_types::{MidiEvent, NoteOffEvent, NoteOnEvent, ParamValueEvent};
 use clack_host::prelude::*;
@@ -154,8 +155,28 @@ pub(crate) struct Param {
     pub stepped: bool,
 }
 
-/// A new instance of plugin `id` from `entry`, with the test host's identity.
+/// A new instance of plugin `id` from `entry`, with the test host's identity, in CLAP's
+/// offline render mode: the test host renders as a bounce does, so an activation waits for
+/// the model and every render repeats bit for bit (a real-time activation returns at once and
+/// plays silence until the model is built: [`new_realtime_instance`]).
 pub(crate) fn new_instance(
+    entry: &PluginEntry,
+    id: &CString,
+) -> Result<PluginInstance<TestHost>, String> {
+    let mut instance = new_realtime_instance(entry, id)?;
+    let render: PluginRender = instance
+        .plugin_handle()
+        .get_extension()
+        .ok_or("the plugin has no CLAP render extension")?;
+    render
+        .set(&instance.plugin_handle(), RenderMode::Offline)
+        .map_err(|e| format!("setting the offline render mode: {e}"))?;
+    Ok(instance)
+}
+
+/// A new instance of plugin `id` from `entry` in CLAP's default (real-time) render mode, as
+/// a live host has it.
+pub(crate) fn new_realtime_instance(
     entry: &PluginEntry,
     id: &CString,
 ) -> Result<PluginInstance<TestHost>, String> {
@@ -479,8 +500,26 @@ fn perform(
 }
 
 /// `render`: the whole session.
+/// `Ok` if the plugin's output events of one `process` call are in time order (CLAP requires
+/// it; clap-validator's `param-fuzz-modulation` caught note ends out of order), else an error
+/// naming the two times.
+pub(crate) fn events_in_order(out_buf: &EventBuffer) -> Result<(), String> {
+    let mut last = 0;
+    for e in out_buf.iter() {
+        let t = e.header().time();
+        if t < last {
+            return Err(format!(
+                "the plugin output an event at sample {t} after one at sample {last}"
+            ));
+        }
+        last = t;
+    }
+    Ok(())
+}
+
 /// One `process` call of a started instance with no audio input, the events of `in_buf` and
-/// the stereo output `out` (the output events buffer is cleared first), at steady time `pos`.
+/// the stereo output `out` (the output events buffer is cleared first), at steady time `pos`; fails if the output events are out of
+/// time order ([`events_in_order`]).
 /// Main thread, which plays the host's audio thread.
 pub(crate) fn process_stereo(
     proc: &mut StartedPluginAudioProcessor<TestHost>,
@@ -503,8 +542,8 @@ pub(crate) fn process_stereo(
         Some(pos),
         None,
     )
-    .map(|_| ())
-    .map_err(|e| format!("{e:?}"))
+    .map_err(|e| format!("{e:?}"))?;
+    events_in_order(out_buf)
 }
 
 pub fn render(o: &RenderOptions) -> Result<(), String> {

@@ -14,6 +14,7 @@
 mod check;
 mod compare;
 mod conform;
+mod conform_live;
 mod conform_params;
 mod conform_render;
 mod expression;

@@ -25,6 +25,9 @@ pub(crate) struct Physics {
     pub bend: f32,
     /// The pitch of every key.
     pub tuning: KeyTuning,
+    /// The most work one step of a new note may take (the CPU governor's cap, in the units of
+    /// `engine/governor.rs`; infinite while the governor is off or the note fits).
+    pub work_cap: f64,
 }
 
 /// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend + note)/12) · a4/440`,

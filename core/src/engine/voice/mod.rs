@@ -98,6 +98,11 @@ pub(crate) struct Voice {
     pub overrides: NoteOverrides,
     /// The strike or pluck of the last note-on, committed at the voice's next step.
     pending: Option<PendingStrike>,
+    /// Wall time (s) of the voice's last job ([`Self::run`] and [`Self::run_above`]),
+    /// written by the thread that ran it; the CPU governor learns from it.
+    pub job_seconds: f64,
+    /// Chunks left of a fade-out ordered by the CPU governor (0: none).
+    pub fading: u8,
 }
 
 impl Voice {
@@ -121,6 +126,18 @@ impl Voice {
             note_brightness: modulation::NEUTRAL_BRIGHTNESS,
             overrides: NoteOverrides::default(),
             pending: None,
+            job_seconds: 0.0,
+            fading: 0,
+        }
+    }
+
+    /// The work of one step of the voice's current model, in the CPU governor's units
+    /// (`engine/governor.rs`): a plate tier's stored tensor entries plus its modes, a
+    /// string's `N²`. Audio thread.
+    pub fn work(&self) -> f64 {
+        match &self.model {
+            VoiceModel::Plate(pv) => pv.work(),
+            VoiceModel::String(sv) => (sv.model.modal_displacement().len() as f64).powi(2),
         }
     }
 
@@ -231,6 +248,7 @@ impl Voice {
         self.peak_energy = 0.0;
         self.energy = 0.0;
         self.pending = None;
+        self.fading = 0;
     }
 
     /// Advances `left.len()` steps, adding `gain ·` the two pickups into `left`/`right`.

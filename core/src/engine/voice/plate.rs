@@ -98,6 +98,9 @@ pub(crate) struct PlateData {
     pub poisson: f64,
     /// The tiers `(N_Φ, N_Ψ)`, largest first; voices hold one model per tier.
     pub tiers: Vec<(usize, usize)>,
+    /// Work of one step of each tier, in the governor's units (stored tensor entries plus
+    /// `N_Φ`; see `engine/governor.rs`), same order as `tiers`.
+    pub tier_work: Vec<f64>,
     /// Band limit (Hz): a note keeps the modes up to it.
     pub band_hz: f64,
     /// The plate's modes continued past the basis, for the band above ([`above`]).
@@ -139,6 +142,9 @@ pub(crate) struct PlateVoice {
     models: Vec<PlateModel<CouplingTensor>>,
     /// The tier in use.
     tier: usize,
+    /// Whether the CPU governor put the current note on a smaller tier than its band asks
+    /// (audio thread; read and cleared by the engine after the note-on).
+    pub governed: bool,
     pub data: Arc<PlateData>,
     /// `ω_s` (rad/s) and `c_s` (1/s) of every mode of the basis for the current note.
     omega: Vec<f64>,
@@ -194,6 +200,7 @@ impl PlateVoice {
         Self {
             models,
             tier: 0,
+            governed: false,
             data,
             omega: vec![0.0; nf],
             damping: vec![0.0; nf],
@@ -218,6 +225,11 @@ impl PlateVoice {
         }
     }
 
+    /// The governor's work units of one step of the tier in use.
+    pub fn work(&self) -> f64 {
+        self.data.tier_work[self.tier]
+    }
+
     /// The model of the tier in use.
     pub fn model(&self) -> &PlateModel<CouplingTensor> {
         &self.models[self.tier]
@@ -237,8 +249,9 @@ impl PlateVoice {
 
     /// Prepares a fresh note: the smallest tier holding every mode under the band limit (the
     /// largest when the budget stops first; for the θ = 1 scheme at most the largest tier it
-    /// integrates stably), that model at rest, and the strike frame at the
-    /// current strike angle. Audio thread, O(N_Φ), no allocation.
+    /// integrates stably; at most the work `p.work_cap` when the CPU governor is on), that
+    /// model at rest, and the strike frame at the current strike angle. Audio thread, O(N_Φ),
+    /// no allocation.
     pub fn begin(&mut self, p: &Physics, key: u8) {
         // A note starts with a neutral tuning expression.
         let (scale, ..) = self.note_scalars(p, key, 0.0);
@@ -260,6 +273,13 @@ impl PlateVoice {
                 self.tier += 1;
             }
         }
+        // The CPU governor's cap on the step's work (infinite unless it is on): the band
+        // comes down a tier at a time (in-plane modes in proportion) until the note fits.
+        let natural = self.tier;
+        while self.data.tier_work[self.tier] > p.work_cap && self.tier + 1 < tiers.len() {
+            self.tier += 1;
+        }
+        self.governed = self.tier != natural;
         let angle = p.values.get(ParamId::StrikeAngle) as f64;
         self.angle = angle;
         self.own_strike = None;

@@ -1,0 +1,156 @@
+//! Block times of random parameter sets played as a live host plays them, without and with
+//! the CPU governor (`engine/governor.rs`): the measurement behind docs/robustness.md,
+//! "Processing in bounded time".
+//!
+//! Each set draws every parameter uniformly over its range (logarithmically where the table
+//! says so; the seed is fixed, so the sets are the same on every run), except `threads` (0:
+//! every core) and `cpu_budget` (0: 80 % of the cores). The engine activates and builds the
+//! model (the time is printed), then plays four notes 0.25 s apart at velocity 1 in blocks of
+//! 512 samples at 48 kHz for `SECONDS`, timing every block on the wall clock against its
+//! duration (10.7 ms). Without the governor a run stops after 20 s of wall time (a model of
+//! the top of the quality ranges costs minutes per second of audio); the row then shows the
+//! blocks it played.
+//!
+//! `cargo run --release --example governor_blocks [-- SETS [SECONDS]]` (defaults 20 and 2).
+
+use noether::engine::{
+    Engine, Event, EventKind, ParamId, ParamKind, ParamValues, SharedParams, PARAMS,
+};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+const RATE: f64 = 48_000.0;
+const BLOCK: usize = 512;
+
+/// A small deterministic generator (xorshift64*).
+struct Rng(u64);
+
+impl Rng {
+    fn unit(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+fn draw(p: &noether::engine::ParamInfo, rng: &mut Rng) -> f32 {
+    let (lo, hi) = (p.min as f64, p.max as f64);
+    let u = rng.unit();
+    match p.kind {
+        ParamKind::Float { log: true } if lo > 0.0 => (lo * (hi / lo).powf(u)) as f32,
+        ParamKind::Float { .. } => (lo + (hi - lo) * u) as f32,
+        _ => (lo + ((hi - lo + 1.0) * u).floor()).min(hi) as f32,
+    }
+}
+
+/// Block-time ratios (wall over duration) of one run.
+struct Run {
+    blocks: usize,
+    mean: f64,
+    max: f64,
+    cut: bool,
+    counts: (u64, u64),
+}
+
+fn run(e: &mut Engine, seconds: f64, governor: bool) -> Run {
+    e.set_governor(governor);
+    e.reset();
+    let n = (seconds * RATE) as usize / BLOCK;
+    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
+    let (mut sum, mut max, mut blocks) = (0.0, 0.0f64, 0);
+    let start = Instant::now();
+    let before = e.governor_counts();
+    let mut cut = false;
+    for b in 0..n {
+        let t = b * BLOCK;
+        let note = (0..4).find(|k| t == (k * 12_000 / BLOCK) * BLOCK);
+        let ev = note.map(|k| {
+            [Event::new(
+                0,
+                EventKind::NoteOn {
+                    key: 48 + 5 * k as u8,
+                    velocity: 1.0,
+                },
+            )]
+        });
+        let events: &[Event] = ev.as_ref().map_or(&[], |e| &e[..]);
+        let t0 = Instant::now();
+        e.process_events(events, &mut l, &mut r);
+        let ratio = t0.elapsed().as_secs_f64() / (BLOCK as f64 / RATE);
+        sum += ratio;
+        max = max.max(ratio);
+        blocks += 1;
+        if !governor && start.elapsed() > Duration::from_secs(20) {
+            cut = true;
+            break;
+        }
+    }
+    let after = e.governor_counts();
+    Run {
+        blocks,
+        mean: sum / blocks.max(1) as f64,
+        max,
+        cut,
+        counts: (after.0 - before.0, after.1 - before.1),
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let sets: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(20);
+    let seconds: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
+    let mut rng = Rng(0x005e_ed0f_b10c);
+    println!(
+        "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended |"
+    );
+    println!("| --- | --- | ---: | --- | --- | --- |");
+    let (mut worst_on, mut mean_on_max) = (0.0f64, 0.0f64);
+    for i in 0..sets {
+        let mut v = ParamValues::defaults();
+        for p in PARAMS {
+            v.0[p.id.index()] = draw(p, &mut rng);
+        }
+        v.0[ParamId::Threads.index()] = 0.0;
+        v.0[ParamId::CpuBudget.index()] = 0.0;
+        let params = Arc::new(SharedParams::new());
+        if let Err(err) = params.set_all(&v) {
+            println!("| {i} | refused: {err} | | | | |");
+            continue;
+        }
+        let (mut e, _h) = Engine::new(params);
+        let t0 = Instant::now();
+        if let Err(err) = e.activate(RATE, BLOCK) {
+            println!("| {i} | not built: {err} | | | | |");
+            continue;
+        }
+        let build = t0.elapsed().as_secs_f64();
+        // The governor first, from the bank's prior cost (the run without it teaches nothing
+        // the governor would use, but keep the order honest).
+        let on = run(&mut e, seconds, true);
+        let off = run(&mut e, seconds, false);
+        worst_on = worst_on.max(on.max);
+        mean_on_max = mean_on_max.max(on.mean);
+        let name = noether::engine::MODEL_NAMES
+            .get(v.index_of(ParamId::Model))
+            .copied()
+            .unwrap_or("?");
+        println!(
+            "| {i} | {}, {} x {}, {:.0} Hz, {} | {build:.1} | {}{}, {:.2}, {:.1} | {:.2}, {:.2} | {}, {} |",
+            name.split_whitespace().next().unwrap_or(name),
+            v.index_of(ParamId::Modes),
+            v.index_of(ParamId::InPlaneModes),
+            v.get(ParamId::BandLimit),
+            v.index_of(ParamId::Polyphony),
+            off.blocks,
+            if off.cut { " (cut)" } else { "" },
+            off.mean,
+            off.max,
+            on.mean,
+            on.max,
+            on.counts.0,
+            on.counts.1
+        );
+    }
+    println!("with the governor: worst block {worst_on:.2} of its duration, largest mean {mean_on_max:.2}");
+}

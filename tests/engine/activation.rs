@@ -1,0 +1,169 @@
+//! Activation that never waits for a model build (`Engine::activate_realtime`, for hosts):
+//! it returns with nothing built, the engine is silent (exact zeros, no allocation on the audio
+//! thread) until the worker's bank arrives, then it plays; a re-activation at the same rate
+//! keeps the bank that plays (no gap, no rebuild), one at a new rate waits for a bank of that
+//! rate; a refused parameter set falls back to the defaults and says so; every positive host
+//! rate activates, from 1 Hz to 1.5 MHz, fractional ones included. Bounded: each wait
+//! for the worker stops after 120 s (a cold build of these small models takes well under 1 s).
+
+use assert_no_alloc::assert_no_alloc;
+use noether::engine::{Engine, EngineHandle, Event, EventKind, ModelKind, ParamId, SharedParams};
+use noether_testkit::presets::preset_params;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+const BLOCK: usize = 256;
+
+/// A small gong (fast to build).
+fn small_gong() -> (Engine, EngineHandle) {
+    let params = preset_params(
+        "gong-40N",
+        &[
+            (ParamId::Modes, 40.0),
+            (ParamId::InPlaneModes, 4.0),
+            (ParamId::Polyphony, 2.0),
+        ],
+    );
+    Engine::new(params)
+}
+
+/// Processes blocks (with a note-on in the first) without allocating; returns the peak.
+fn block(e: &mut Engine, note: bool) -> f32 {
+    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
+    let on = [Event::new(
+        0,
+        EventKind::NoteOn {
+            key: 60,
+            velocity: 1.0,
+        },
+    )];
+    let events: &[Event] = if note { &on } else { &[] };
+    assert_no_alloc(|| e.process_events(events, &mut l, &mut r));
+    l.iter().chain(&r).fold(0.0f32, |m, x| {
+        assert!(x.is_finite());
+        m.max(x.abs())
+    })
+}
+
+/// Processes silent blocks until the engine has a bank (at most 120 s).
+fn until_built(e: &mut Engine) {
+    let start = Instant::now();
+    while e.is_building_first() {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "no bank after 120 s"
+        );
+        assert_eq!(block(e, false), 0.0);
+        std::thread::sleep(Duration::from_millis(2));
+    }
+}
+
+#[test]
+fn a_realtime_activation_returns_before_the_build_and_plays_when_it_arrives() {
+    let (mut e, h) = small_gong();
+    e.activate_realtime(48_000.0, BLOCK).unwrap();
+    // Nothing was built on this thread: the bank comes from the worker, through `process`.
+    assert!(e.is_building_first());
+    assert_eq!(e.bank_id(), 0);
+    // A note before the bank is silent (exact zeros), and the engine allocates nothing.
+    assert_eq!(block(&mut e, true), 0.0);
+    assert!(e.latency_samples() > 0, "the latency the bank will have");
+    let expected = e.latency_samples();
+    until_built(&mut e);
+    assert_eq!(
+        e.latency_samples(),
+        expected,
+        "the latency announced at activation"
+    );
+    assert!(h.last_error().is_none());
+    let peak = (0..40)
+        .map(|i| block(&mut e, i == 0))
+        .fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "the built model sounds: peak {peak}");
+}
+
+#[test]
+fn a_reactivation_keeps_the_bank_at_the_same_rate_and_rebuilds_at_a_new_one() {
+    let (mut e, _h) = small_gong();
+    e.activate(48_000.0, BLOCK).unwrap();
+    let first = e.bank_id();
+    assert_ne!(first, 0);
+    // Same rate, same parameters: the bank stays and plays at once.
+    e.activate_realtime(48_000.0, BLOCK).unwrap();
+    assert_eq!(e.bank_id(), first);
+    assert!(!e.is_building_first());
+    let peak = (0..40)
+        .map(|i| block(&mut e, i == 0))
+        .fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "the kept bank sounds: peak {peak}");
+    // A new rate: the old bank cannot play there; silence until the new one arrives.
+    e.activate_realtime(44_100.0, BLOCK).unwrap();
+    assert!(e.is_building_first());
+    until_built(&mut e);
+    assert_ne!(e.bank_id(), first);
+    assert_eq!(e.host_rate(), 44_100.0);
+    let peak = (0..40)
+        .map(|i| block(&mut e, i == 0))
+        .fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "the new bank sounds: peak {peak}");
+    // And a blocking activation after a realtime one still returns with its bank.
+    e.activate(48_000.0, BLOCK).unwrap();
+    assert!(!e.is_building_first());
+}
+
+#[test]
+fn a_refused_set_at_a_realtime_activation_falls_back_and_says_so() {
+    // A string of 1 km: outside the string's length range, written around the table's
+    // ranges (`SharedParams::from_values` does not check) as a host's stale state could be.
+    let mut v = preset_params("gong-40N", &[(ParamId::Polyphony, 2.0)]).snapshot();
+    v.0[ParamId::Model.index()] = 4.0;
+    v.0[ParamId::Modes.index()] = 16.0;
+    v.0[ParamId::Size.index()] = 1000.0;
+    let (mut e, h) = Engine::new(Arc::new(SharedParams::from_values(&v)));
+    e.activate_realtime(48_000.0, BLOCK).unwrap();
+    until_built(&mut e);
+    let err = h.last_error().expect("the refusal is reported");
+    assert!(err.contains("length"), "{err}");
+    // The table's defaults' model (a gong; the refused set's playing values, its 1 km size
+    // among them, are kept, so it is nearly silent: only finiteness is checked).
+    assert_eq!(e.model(), Some(ModelKind::Gong));
+    (0..10).for_each(|i| {
+        block(&mut e, i == 0);
+    });
+}
+
+#[test]
+fn every_positive_host_rate_activates_and_plays_within_full_scale() {
+    // clap-validator tries 1234.57 Hz; the issue asks for 1 Hz to 1.5 MHz.
+    for rate in [
+        1.0,
+        97.3,
+        1_234.567_7,
+        7_999.5,
+        48_000.0,
+        1_000_000.0,
+        1_500_000.0,
+    ] {
+        let (mut e, _h) = small_gong();
+        e.activate(rate, BLOCK).unwrap();
+        // At least 64 host samples and 0.3 s (at 1 Hz: 64 s of the model, band-limited to
+        // 0.45 Hz, so nearly silent; at 1.5 MHz: 0.3 s).
+        let blocks = ((0.3 * rate) as usize).div_ceil(BLOCK).max(1);
+        let mut peak = 0.0f32;
+        for i in 0..blocks {
+            peak = peak.max(block(&mut e, i == 0));
+        }
+        assert!(peak <= 1.0, "{rate} Hz: peak {peak} above full scale");
+        if rate >= 1_000.0 {
+            // The gong's lowest modes lie below 0.45 of these rates: it sounds.
+            assert!(peak > 1e-3, "{rate} Hz: silent (peak {peak})");
+        }
+    }
+    // Not positive or not finite: refused, naming the field.
+    for bad in [0.0, -48_000.0, f64::NAN, f64::INFINITY] {
+        let (mut e, _h) = small_gong();
+        let err = e.activate(bad, BLOCK).unwrap_err();
+        assert!(err.to_string().contains("host_rate"), "{err}");
+        assert!(e.activate_realtime(bad, BLOCK).is_err());
+    }
+}

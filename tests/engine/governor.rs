@@ -1,0 +1,103 @@
+//! The CPU governor (`engine/governor.rs`): off, every note keeps the band it asks for; on
+//! with a budget it cannot meet, a note starts on a smaller tier (a narrower band) and the
+//! other voices end to make room, each reduction counted; on with a budget it meets, nothing
+//! changes. No allocation in any of it. Bounded: a few notes of the factory gong, 0.2 s each.
+//! The block-time watch is tested in `core/src/engine/governor.rs` (it depends on the
+//! machine's load, so it is driven there with given block times).
+
+use assert_no_alloc::assert_no_alloc;
+use noether::engine::{Engine, Event, EventKind, ParamId};
+use noether_testkit::presets::preset_params;
+use std::time::Duration;
+
+const BLOCK: usize = 256;
+
+/// The factory gong-40N (510 modes, 15 in-plane), four voices, `cpu_budget` = `cores`.
+fn gong(cores: f32) -> Engine {
+    let params = preset_params(
+        "gong-40N",
+        &[(ParamId::Polyphony, 4.0), (ParamId::CpuBudget, cores)],
+    );
+    let (mut e, _h) = Engine::new(params);
+    e.activate(48_000.0, BLOCK).unwrap();
+    // No late voice jobs on a loaded machine (a late job holds the bank, and the voices'
+    // read-outs wait for it): the bounce's wait.
+    e.set_job_wait(Some(Duration::from_secs(10)));
+    e
+}
+
+/// Plays `key` (velocity 1) for `blocks` blocks, without allocating.
+fn play_for(e: &mut Engine, key: u8, blocks: usize) {
+    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
+    let on = [Event::new(0, EventKind::NoteOn { key, velocity: 1.0 })];
+    for i in 0..blocks {
+        let events: &[Event] = if i == 0 { &on } else { &[] };
+        assert_no_alloc(|| e.process_events(events, &mut l, &mut r));
+        assert!(l.iter().chain(&r).all(|x| x.is_finite() && x.abs() <= 1.0));
+    }
+}
+
+/// Plays `key` for 0.2 s.
+fn play(e: &mut Engine, key: u8) {
+    play_for(e, key, (0.2 * 48_000.0 / BLOCK as f64) as usize);
+}
+
+/// The transverse modes of the voice playing `key`.
+fn modes_of(e: &Engine, key: u8) -> u32 {
+    (0..e.polyphony())
+        .find(|&s| e.voice_key(s) == Some(key))
+        .and_then(|s| e.voice_model(s))
+        .map(|m| m.n_phi)
+        .expect("a voice plays the key")
+}
+
+#[test]
+fn off_every_note_keeps_its_band() {
+    let mut e = gong(0.001);
+    play(&mut e, 60);
+    play(&mut e, 62);
+    assert_eq!(e.governor_counts(), (0, 0), "off by default");
+    assert_eq!(e.active_voices(), 2);
+    assert!(modes_of(&e, 60) > 100, "the root key's full band");
+}
+
+#[test]
+fn on_with_a_budget_too_small_notes_narrow_and_voices_end() {
+    let mut full = gong(0.001);
+    play(&mut full, 60);
+    let natural = modes_of(&full, 60);
+
+    let mut e = gong(0.001);
+    e.set_governor(true);
+    play(&mut e, 60);
+    let narrowed = modes_of(&e, 60);
+    assert!(
+        narrowed < natural,
+        "a thousandth of a core: {narrowed} modes, not the band's {natural}"
+    );
+    assert_eq!(e.governor_counts().0, 1, "one note narrowed");
+    // A second note does not fit beside the first: the first ends (a fade of 8 chunks,
+    // long over after 0.2 s), the second plays.
+    play(&mut e, 64);
+    let (reduced, shed) = e.governor_counts();
+    assert_eq!(reduced, 2);
+    assert!(shed >= 1, "the first voice ended to make room");
+    assert_eq!(e.active_voices(), 1);
+    assert!(modes_of(&e, 64) < natural);
+}
+
+#[test]
+fn on_with_room_nothing_changes() {
+    // One block per note: the note-on's admission alone (the block-time watch averages over
+    // 0.1 s, so it cannot act within these three blocks whatever the machine's load).
+    let mut e = gong(64.0);
+    e.set_governor(true);
+    let mut full = gong(64.0);
+    for key in [60, 64, 67] {
+        play_for(&mut e, key, 1);
+        play_for(&mut full, key, 1);
+        assert_eq!(modes_of(&e, key), modes_of(&full, key));
+    }
+    assert_eq!(e.governor_counts(), (0, 0));
+    assert_eq!(e.active_voices(), 3);
+}
