@@ -2,9 +2,10 @@
 //! the CPU governor (`engine/governor.rs`): the measurement behind docs/robustness.md,
 //! "Processing in bounded time".
 //!
-//! Each set draws every parameter uniformly over its range (logarithmically where the table
-//! says so; the seed is fixed, so the sets are the same on every run), except `threads` (0:
-//! every core) and `cpu_budget` (0: 80 % of the cores). The engine activates and builds the
+//! Each set draws every parameter as the soak does (`noether_testkit::soak::Draw::value`:
+//! uniform over its range, logarithmically where the table says so, and exactly its minimum or
+//! its maximum one time in ten each; the seed is fixed, so the sets are the same on every
+//! run), except `threads` (0: every core) and `cpu_budget` (0: 70 % of the cores). The engine activates and builds the
 //! model (the time is printed), then plays four notes 0.25 s apart at velocity 1 in blocks of
 //! 512 samples at 48 kHz for `SECONDS`, timing every block on the wall clock against its
 //! duration (10.7 ms). Without the governor a run stops after 20 s of wall time (a model of
@@ -13,36 +14,13 @@
 //!
 //! `cargo run --release --example governor_blocks [-- SETS [SECONDS]]` (defaults 20 and 2).
 
-use noether::engine::{
-    Engine, Event, EventKind, ParamId, ParamKind, ParamValues, SharedParams, PARAMS,
-};
+use noether::engine::{Engine, Event, EventKind, ParamId, ParamValues, SharedParams, PARAMS};
+use noether_testkit::soak::Draw;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 512;
-
-/// A small deterministic generator (xorshift64*).
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
-fn draw(p: &noether::engine::ParamInfo, rng: &mut Rng) -> f32 {
-    let (lo, hi) = (p.min as f64, p.max as f64);
-    let u = rng.unit();
-    match p.kind {
-        ParamKind::Float { log: true } if lo > 0.0 => (lo * (hi / lo).powf(u)) as f32,
-        ParamKind::Float { .. } => (lo + (hi - lo) * u) as f32,
-        _ => (lo + ((hi - lo + 1.0) * u).floor()).min(hi) as f32,
-    }
-}
 
 /// Block-time ratios (wall over duration) of one run.
 struct Run {
@@ -100,7 +78,7 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let sets: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(20);
     let seconds: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
-    let mut rng = Rng(0x005e_ed0f_b10c);
+    let mut draw = Draw::new(0x005e_ed0f_b10c);
     println!(
         "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended |"
     );
@@ -109,7 +87,7 @@ fn main() {
     for i in 0..sets {
         let mut v = ParamValues::defaults();
         for p in PARAMS {
-            v.0[p.id.index()] = draw(p, &mut rng);
+            v.0[p.id.index()] = draw.value(p);
         }
         v.0[ParamId::Threads.index()] = 0.0;
         v.0[ParamId::CpuBudget.index()] = 0.0;

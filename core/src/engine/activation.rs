@@ -34,8 +34,12 @@ impl Engine {
         host_rate: f64,
         max_block: usize,
     ) -> Result<Option<ParamError>, ParamError> {
-        self.start(host_rate, max_block)?;
-        self.wait_for_generation()
+        if self.start(host_rate, max_block)? {
+            self.wait_for_generation()
+        } else {
+            // The bank kept (same rate, same model) is the one asked for.
+            Ok(None)
+        }
     }
 
     /// As [`Self::activate`], but returns at once (a few milliseconds: it joins the voice
@@ -53,7 +57,7 @@ impl Engine {
         host_rate: f64,
         max_block: usize,
     ) -> Result<(), ParamError> {
-        self.start(host_rate, max_block)
+        self.start(host_rate, max_block).map(|_| ())
     }
 
     /// Turns the CPU governor on or off (main thread, between activations, or any time
@@ -80,8 +84,9 @@ impl Engine {
 
     /// The common part of both activations: checks the configuration, stops the pool, opens a
     /// new generation, keeps the current bank when it can still play, asks the worker for the
-    /// generation's bank when needed and starts the worker (once) and the pool.
-    fn start(&mut self, host_rate: f64, max_block: usize) -> Result<(), ParamError> {
+    /// generation's bank when needed and starts the worker (once) and the pool. Returns
+    /// whether the worker was asked for a bank (false: the kept bank is the one asked for).
+    fn start(&mut self, host_rate: f64, max_block: usize) -> Result<bool, ParamError> {
         check_positive("host_rate", host_rate)?;
         if max_block == 0 {
             return Err(ParamError::new("max_block", 0, "integer >= 1"));
@@ -148,7 +153,7 @@ impl Engine {
         let pool = Pool::start(Pool::default_workers(), self.board.clone())
             .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
         self.pool = Some(pool);
-        Ok(())
+        Ok(first_build)
     }
 
     /// Waits (main thread) until the worker has built this generation's first bank and
@@ -174,19 +179,10 @@ impl Engine {
                 }
                 Err(RecvTimeoutError::Timeout) => {}
             }
-            let outcome = self.status.outcome.lock().ok().and_then(|o| o.clone());
-            match outcome {
-                // The engine kept its bank (same rate and model): nothing to wait for.
-                Some((g, Ok(None)))
-                    if g == self.generation
-                        && self.bank.as_ref().is_some_and(|b| {
-                            b.values.rebuild_key() == self.values.rebuild_key()
-                        }) =>
-                {
-                    break
+            if let Some((g, Err(e))) = self.status.outcome.lock().ok().and_then(|o| o.clone()) {
+                if g == self.generation {
+                    return Err(e);
                 }
-                Some((g, Err(e))) if g == self.generation => return Err(e),
-                _ => {}
             }
         }
         match self.status.outcome.lock().ok().and_then(|o| o.clone()) {

@@ -207,8 +207,6 @@ fn run(mut s: WorkerSetup, stop: &AtomicBool) {
             s.built_key = wanted.rebuild_key();
             if request.first_build {
                 first_build(&mut s, &current, wanted, request.last_good, stop);
-            } else if let Ok(mut slot) = s.status.outcome.lock() {
-                *slot = Some((current.generation, Ok(None)));
             }
         } else if request.active {
             let v = s.params.snapshot();
