@@ -31,9 +31,13 @@ struct Run {
     counts: (u64, u64),
 }
 
+/// Activates `e` with the governor on or off (a string bank is fitted to the budget when it
+/// is built, so each mode activates on its own), then plays.
 fn run(e: &mut Engine, seconds: f64, governor: bool) -> Run {
     e.set_governor(governor);
-    e.reset();
+    if let Err(err) = e.activate(RATE, BLOCK) {
+        panic!("re-activation refused: {err}");
+    }
     let n = (seconds * RATE) as usize / BLOCK;
     let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
     let (mut sum, mut max, mut blocks) = (0.0, 0.0f64, 0);
@@ -80,9 +84,9 @@ fn main() {
     let seconds: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
     let mut draw = Draw::new(0x005e_ed0f_b10c);
     println!(
-        "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended |"
+        "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended | string fitted |"
     );
-    println!("| --- | --- | ---: | --- | --- | --- |");
+    println!("| --- | --- | ---: | --- | --- | --- | --- |");
     let (mut worst_on, mut mean_on_max) = (0.0f64, 0.0f64);
     for i in 0..sets {
         let mut v = ParamValues::defaults();
@@ -93,16 +97,18 @@ fn main() {
         v.0[ParamId::CpuBudget.index()] = 0.0;
         let params = Arc::new(SharedParams::new());
         if let Err(err) = params.set_all(&v) {
-            println!("| {i} | refused: {err} | | | | |");
+            println!("| {i} | refused: {err} | | | | | |");
             continue;
         }
         let (mut e, _h) = Engine::new(params);
         let t0 = Instant::now();
+        e.set_governor(true);
         if let Err(err) = e.activate(RATE, BLOCK) {
-            println!("| {i} | not built: {err} | | | | |");
+            println!("| {i} | not built: {err} | | | | | |");
             continue;
         }
         let build = t0.elapsed().as_secs_f64();
+        let fitted = e.modes_fitted();
         // The governor first, from the bank's prior cost (the run without it teaches nothing
         // the governor would use, but keep the order honest).
         let on = run(&mut e, seconds, true);
@@ -114,7 +120,7 @@ fn main() {
             .copied()
             .unwrap_or("?");
         println!(
-            "| {i} | {}, {} x {}, {:.0} Hz, {} | {build:.1} | {}{}, {:.2}, {:.1} | {:.2}, {:.2} | {}, {} |",
+            "| {i} | {}, {} x {}, {:.0} Hz, {} | {build:.1} | {}{}, {:.2}, {:.1} | {:.2}, {:.2} | {}, {} | {} |",
             name.split_whitespace().next().unwrap_or(name),
             v.index_of(ParamId::Modes),
             v.index_of(ParamId::InPlaneModes),
@@ -127,7 +133,8 @@ fn main() {
             on.mean,
             on.max,
             on.counts.0,
-            on.counts.1
+            on.counts.1,
+            fitted.map_or("-".to_string(), |f| format!("{} of {}", f.built, f.wanted)),
         );
     }
     println!("with the governor: worst block {worst_on:.2} of its duration, largest mean {mean_on_max:.2}");

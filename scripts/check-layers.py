@@ -123,8 +123,9 @@ CRATES = [
             # tuning: the saved Scala texts and their publication to the engine.
             ["bypass", "fake_host", "format", "preset_state", "tuning", "user_presets"],
             ["link", "midi", "params", "presets", "state"],
-            # poly: the host's notes and their polyphonic modulation (reads `params`).
-            ["poly", "preset_ops"],
+            # poly: the host's notes and their polyphonic modulation (reads `params`);
+            # remote: the CLAP remote-control pages (reads `params`).
+            ["poly", "preset_ops", "remote"],
             ["editor"],
         ],
     ),

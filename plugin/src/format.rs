@@ -34,8 +34,9 @@ enum Quantity {
     Count(&'static str, &'static str),
     /// The worker threads: 0 reads "all cores".
     Threads,
-    /// The CPU budget in cores: 0 reads "auto" (the engine's share of the machine's cores).
-    Budget,
+    /// A budget in its unit (the CPU budget in cores, the memory cap in MB): 0 reads "auto"
+    /// (the engine's share of the machine's).
+    Auto(&'static str),
     /// A plain number with a fixed unit text (possibly empty).
     Plain(&'static str),
 }
@@ -54,7 +55,8 @@ fn quantity(id: ParamId) -> Quantity {
         RootKey => Quantity::Key,
         Polyphony => Quantity::Count("voice", "voices"),
         Threads => Quantity::Threads,
-        CpuBudget => Quantity::Budget,
+        CpuBudget => Quantity::Auto("cores"),
+        MemoryCap => Quantity::Auto("MB"),
         Density => Quantity::Plain("kg/m³"),
         DampingScale | Closure => Quantity::Plain("×"),
         DampingC0 => Quantity::Plain("1/s"),
@@ -150,11 +152,25 @@ fn with_unit(number: f32, unit: &str) -> String {
     }
 }
 
+/// `a` rounded to the four significant digits the display shows: the unit is chosen from
+/// it, so a value just below a unit's threshold that displays as the threshold ("1000 Hz")
+/// takes the larger unit ("1.000 kHz"), as the value parsed back from that text does
+/// (clap-validator's `param-conversions`: "1.000 kHz" read back as 999.99994 Hz printed
+/// "1000 Hz").
+fn as_displayed(a: f32) -> f32 {
+    if a == 0.0 || !a.is_finite() {
+        return a;
+    }
+    let scale = 10f64.powi(3 - f64::from(a).log10().floor() as i32);
+    ((f64::from(a) * scale).round() / scale) as f32
+}
+
 /// The display text of `value` (plain, engine units) of parameter `id`.
 pub fn format_value(id: ParamId, value: f32) -> String {
+    let shown = as_displayed(value.abs());
     match quantity(id) {
         Quantity::Length => {
-            let a = value.abs();
+            let a = shown;
             if a == 0.0 {
                 "0 mm".to_string()
             } else if a < 1e-4 {
@@ -170,17 +186,17 @@ pub fn format_value(id: ParamId, value: f32) -> String {
         Quantity::Modulus => with_unit(value * 1e-9, "GPa"),
         Quantity::Angle => with_unit(value.to_degrees(), "°"),
         Quantity::Percent => with_unit(value * 100.0, "%"),
-        Quantity::Frequency if value.abs() >= 1e3 => with_unit(value * 1e-3, "kHz"),
+        Quantity::Frequency if shown >= 1e3 => with_unit(value * 1e-3, "kHz"),
         Quantity::Frequency => with_unit(value, "Hz"),
-        Quantity::Time if value.abs() < 1.0 => with_unit(value * 1e3, "ms"),
+        Quantity::Time if shown < 1.0 => with_unit(value * 1e3, "ms"),
         Quantity::Time => with_unit(value, "s"),
         Quantity::LinearDensity => with_unit(value * 1e3, "g/m"),
         Quantity::Key => note_name(value.round() as i32),
         Quantity::Count(one, many) => plural(value.round().max(0.0) as usize, one, many),
         Quantity::Threads if value < 0.5 => "all cores".to_string(),
         Quantity::Threads => plural(value.round() as usize, "thread", "threads"),
-        Quantity::Budget if value <= 0.0 => "auto".to_string(),
-        Quantity::Budget => with_unit(value, "cores"),
+        Quantity::Auto(_) if value <= 0.0 => "auto".to_string(),
+        Quantity::Auto(unit) => with_unit(value, unit),
         Quantity::Plain("dB") => format!("{value:+.2} dB"),
         Quantity::Plain(unit) => with_unit(value, unit),
     }
@@ -203,7 +219,7 @@ pub fn typing_unit(id: ParamId) -> &'static str {
         | Quantity::Key
         | Quantity::Count(..)
         | Quantity::Threads
-        | Quantity::Budget => "",
+        | Quantity::Auto(_) => "",
     }
 }
 
@@ -246,7 +262,7 @@ fn unit_fits(q: Quantity, unit: &str) -> bool {
         Quantity::Frequency => matches!(unit, "kHz" | "Hz"),
         Quantity::Time => matches!(unit, "ms" | "s"),
         Quantity::LinearDensity => matches!(unit, "g/m" | "kg/m"),
-        Quantity::Key | Quantity::Count(..) | Quantity::Threads | Quantity::Budget => false,
+        Quantity::Key | Quantity::Count(..) | Quantity::Threads | Quantity::Auto(_) => false,
         Quantity::Plain(_) => false,
     }
 }
@@ -263,14 +279,13 @@ pub fn parse_value(id: ParamId, text: &str) -> Option<f32> {
             let first = text.split_whitespace().next()?;
             return first.parse::<f32>().ok();
         }
-        Quantity::Budget if text.trim().starts_with("auto") => return Some(0.0),
+        Quantity::Auto(_) if text.trim().starts_with("auto") => return Some(0.0),
         _ => {}
     }
-    // The budget reads as a plain number of cores.
-    let q = if matches!(q, Quantity::Budget) {
-        Quantity::Plain("cores")
-    } else {
-        q
+    // A budget reads as a plain number in its unit.
+    let q = match q {
+        Quantity::Auto(unit) => Quantity::Plain(unit),
+        q => q,
     };
     let t = text.trim().replace('−', "-");
     let split = t
@@ -383,6 +398,18 @@ mod tests {
         );
         assert_eq!(format_value(ParamId::StrikeRadius, 0.92), "92.00%");
         assert_eq!(format_value(ParamId::SimRate, 8000.0), "8.000 kHz");
+        // Just below a unit's threshold, shown as the threshold: the larger unit, as the
+        // value read back from that text (clap-validator's round trip, Band limit).
+        for (id, v, text) in [
+            (ParamId::BandLimit, 999.99994, "1.000 kHz"),
+            (ParamId::BandLimit, 999.9, "999.9 Hz"),
+            (ParamId::ReleaseT60, 0.99999, "1.000 s"),
+            (ParamId::Size, 0.0099999, "1.000 cm"),
+        ] {
+            assert_eq!(format_value(id, v), text);
+            let back = parse_value(id, text).unwrap();
+            assert_eq!(format_value(id, back), text);
+        }
         assert_eq!(format_value(ParamId::StrikeDuration, 0.01), "10.00 ms");
         assert_eq!(format_value(ParamId::ReleaseT60, 2.0), "2.000 s");
         assert_eq!(format_value(ParamId::Gain, -6.0), "-6.00 dB");

@@ -28,6 +28,7 @@ pub mod poly;
 pub mod preset_ops;
 pub mod preset_state;
 pub mod presets;
+pub mod remote;
 pub mod state;
 pub mod tuning;
 pub mod user_presets;
@@ -42,11 +43,20 @@ use std::num::NonZeroU32;
 use std::sync::Arc;
 use std::time::Duration;
 
-/// Most note and MIDI events handled in one block (the host's input event capacity).
 /// Longest wait per chunk for the voice pool's jobs in an offline bounce (the engine's offline
 /// renders use the same bound): long enough for any job, bounded all the same.
 const OFFLINE_JOB_WAIT: Duration = Duration::from_secs(10);
-const EVENT_CAPACITY: usize = 1024;
+
+/// nice-plug's input event queues (note events, and every parameter change in VST3), sized
+/// at the plugin's creation: 8192 events in one (sub-)block, eight times nice-plug's default
+/// of 1024, which pluginval's automation tests overflowed (the queue then grows on the audio
+/// thread). The test host's `conform` case `load` sends 6000 in a block and fails on any
+/// overflow nice-plug logs. About 0.5 MB per instance.
+const INPUT_EVENTS: usize = 8192;
+
+/// Engine events one (sub-)block can produce: a note's event and its per-note modulation for
+/// every input event; beyond it, events are dropped, never reallocated (`midi`, `poly`).
+const EVENT_CAPACITY: usize = 2 * INPUT_EVENTS;
 /// The most voices a bank holds (the `polyphony` parameter's maximum): the host's voice
 /// capacity for polyphonic modulation.
 const MAX_VOICES: u32 = 16;
@@ -114,7 +124,7 @@ impl Plugin for Noether {
 
     const MIDI_INPUT: MidiConfig = MidiConfig::MidiCCs;
     const SAMPLE_ACCURATE_AUTOMATION: bool = true;
-    const INPUT_EVENT_CAPACITY: usize = EVENT_CAPACITY;
+    const INPUT_EVENT_CAPACITY: usize = INPUT_EVENTS;
 
     type Editor = EguiEditor<EditorApp>;
     type SysExMessage = ();
@@ -253,6 +263,10 @@ impl ClapPlugin for Noether {
         ClapFeature::Synthesizer,
         ClapFeature::Stereo,
     ];
+
+    fn remote_controls(&self, context: &mut impl RemoteControlsContext) {
+        remote::define(&self.params, context);
+    }
 }
 
 impl Vst3Plugin for Noether {

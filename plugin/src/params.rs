@@ -324,9 +324,8 @@ pub fn group_of(id: ParamId) -> &'static str {
         PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
         Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
         | ContactStiffness | ContactAlpha => "String and bridge",
-        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove | CpuBudget => {
-            "Quality"
-        }
+        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove | CpuBudget
+        | MemoryCap => "Quality",
         _ => "Tuning and output",
     }
 }

@@ -163,6 +163,12 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         r.threads,
         r.bank_seconds
     );
+    if let Some(reduced) = &r.reduced {
+        eprintln!(
+            "  the model was built with {reduced}; tensors {:.1} MB",
+            r.tensor_megabytes
+        );
+    }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.out.plot {
         super::files::create_dir(dir)?;

@@ -13,7 +13,8 @@
 
 use super::preset_engine::{start_engine, FoundPreset, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{
-    Event, EventKind, KeyTuning, ParamId, Preset, MAX_HOST_RATE, MAX_VOICES, MIN_HOST_RATE,
+    Event, EventKind, FitReason, KeyTuning, ParamId, Preset, MAX_HOST_RATE, MAX_VOICES,
+    MIN_HOST_RATE,
 };
 use crate::error::{check_closed, Error, ParamError};
 use serde::Serialize;
@@ -323,6 +324,12 @@ pub struct PlayReport {
     /// Halves of split steps a worker took but did not finish within the bounded wait (the
     /// voice computed them itself: same sound).
     pub late_step_halves: u64,
+    /// Megabytes of coupling tensors the engine held (`Engine::memory_bytes`: the bank's tiers
+    /// and the modal cache's basis).
+    pub tensor_megabytes: f64,
+    /// The bank was built with fewer modes than asked: "1000 of 2000 modes (memory cap)"
+    /// (offline, only the memory cap reduces a model; `null` otherwise).
+    pub reduced: Option<String>,
 }
 
 /// A finished play: the stereo output at the host rate and its report.
@@ -455,6 +462,14 @@ pub fn play(
         late_jobs: engine.late_jobs(),
         shared_step_halves: engine.shared_step_halves(),
         late_step_halves: engine.late_step_halves(),
+        tensor_megabytes: engine.memory_bytes() as f64 / 1048576.0,
+        reduced: engine.modes_fitted().map(|f| {
+            let why = match f.reason {
+                FitReason::Cpu => "CPU budget",
+                FitReason::Memory => "memory cap",
+            };
+            format!("{} of {} modes ({why})", f.built, f.wanted)
+        }),
     };
     Ok(Played { out, report })
 }

@@ -47,13 +47,21 @@ fn block(e: &mut Engine, note: bool) -> f32 {
 
 /// Processes silent blocks until the engine has a bank (at most 120 s).
 fn until_built(e: &mut Engine) {
+    wait_while(e, "a bank", Engine::is_building_first);
+}
+
+/// Processes blocks (no note) while `cond` holds, at most 120 s (fails naming `what` it
+/// waited for); a block before the first bank must be silent.
+fn wait_while(e: &mut Engine, what: &str, cond: impl Fn(&Engine) -> bool) {
     let start = Instant::now();
-    while e.is_building_first() {
+    while cond(e) {
         assert!(
             start.elapsed() < Duration::from_secs(120),
-            "no bank after 120 s"
+            "no {what} after 120 s"
         );
-        assert_eq!(block(e, false), 0.0);
+        let first = e.is_building_first();
+        let peak = block(e, false);
+        assert!(!first || peak == 0.0, "sound before the first bank");
         std::thread::sleep(Duration::from_millis(2));
     }
 }
@@ -80,6 +88,47 @@ fn a_realtime_activation_returns_before_the_build_and_plays_when_it_arrives() {
         .map(|i| block(&mut e, i == 0))
         .fold(0.0f32, f32::max);
     assert!(peak > 1e-3, "the built model sounds: peak {peak}");
+}
+
+/// With nothing to play (no bank at this rate), a real-time activation of a large plate
+/// gets a preview first (`Bank::preview_of`: the same plate with at most 64 modes, built in a
+/// fraction of a second on a cold cache), which plays, with the full model's latency; then
+/// the full model replaces it. A model already that small has no preview.
+#[test]
+fn a_cold_realtime_activation_plays_a_preview_until_the_full_model_arrives() {
+    let params = preset_params("gong-40N", &[(ParamId::Polyphony, 2.0)]);
+    let (mut e, h) = Engine::new(params);
+    e.activate_realtime(48_000.0, BLOCK).unwrap();
+    let expected = e.latency_samples();
+    until_built(&mut e);
+    assert!(e.is_preview(), "the first bank is the preview");
+    assert_eq!(e.latency_samples(), expected);
+    let peak = (0..40)
+        .map(|i| block(&mut e, i == 0))
+        .fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "the preview sounds: peak {peak}");
+    let preview_modes = (0..e.polyphony())
+        .find_map(|s| e.voice_model(s))
+        .map(|m| m.n_phi)
+        .expect("a voice sounds");
+    assert!(preview_modes <= 64, "{preview_modes} modes");
+    wait_while(&mut e, "full model", Engine::is_preview);
+    assert!(h.last_error().is_none());
+    let peak = (0..40)
+        .map(|i| block(&mut e, i == 0))
+        .fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "the full model sounds: peak {peak}");
+    let full_modes = (0..e.polyphony())
+        .filter_map(|s| e.voice_model(s))
+        .map(|m| m.n_phi)
+        .max()
+        .expect("a voice sounds");
+    assert!(full_modes > 64, "{full_modes} modes");
+    // A small model has no preview: its first bank is the model itself.
+    let (mut small, _h) = small_gong();
+    small.activate_realtime(48_000.0, BLOCK).unwrap();
+    until_built(&mut small);
+    assert!(!small.is_preview());
 }
 
 #[test]

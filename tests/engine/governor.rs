@@ -101,3 +101,56 @@ fn on_with_room_nothing_changes() {
     assert_eq!(e.governor_counts(), (0, 0));
     assert_eq!(e.active_voices(), 3);
 }
+
+/// The factory tanpura with `modes` modes and `cpu_budget` = `cores`, activated with the
+/// governor on or off.
+fn tanpura(modes: f32, cores: f32, governed: bool) -> Engine {
+    let params = preset_params(
+        "tanpura",
+        &[
+            (ParamId::Modes, modes),
+            (ParamId::Polyphony, 2.0),
+            (ParamId::CpuBudget, cores),
+        ],
+    );
+    let (mut e, _h) = Engine::new(params);
+    e.set_governor(governed);
+    e.activate(48_000.0, BLOCK).unwrap();
+    e.set_job_wait(Some(Duration::from_secs(10)));
+    e
+}
+
+/// A string voice is one model, so the worker fits its mode count to one voice's share of the
+/// budget when it builds the bank (`engine/string_bank.rs`, timed in thread CPU time). A
+/// thousandth of a core holds no tanpura of 2000 modes (one costs about 3.6 cores here, and
+/// the smallest trial string is far above a thousandth): the bank comes down to the fewest
+/// modes, is reported, and plays a note without allocating. Offline (governor off) the
+/// string keeps every mode; a bank kept across an activation is rebuilt when the governor
+/// switches.
+#[test]
+fn a_string_too_costly_for_the_budget_is_built_with_fewer_modes() {
+    let mut e = tanpura(2000.0, 0.001, true);
+    let fitted = e.modes_fitted().expect("fitted to a thousandth of a core");
+    assert_eq!(fitted.wanted, 2000);
+    assert!(fitted.built < 100, "{fitted:?}");
+    play(&mut e, 60);
+    assert_eq!(e.active_voices(), 1);
+
+    let mut off = tanpura(2000.0, 0.001, false);
+    assert_eq!(off.modes_fitted(), None, "offline: every mode");
+    off.set_governor(true);
+    off.activate(48_000.0, BLOCK).unwrap();
+    assert!(
+        off.modes_fitted().is_some(),
+        "rebuilt when the governor switched on"
+    );
+}
+
+/// A cheap string keeps its modes under the default budget: the factory tanpura (166 modes at 192 kHz)
+/// costs a few hundredths of a core, far below one voice's 70 % of a core on any machine that
+/// runs the tests.
+#[test]
+fn a_string_within_the_budget_keeps_its_modes() {
+    let e = tanpura(166.0, 0.0, true);
+    assert_eq!(e.modes_fitted(), None);
+}

@@ -5,11 +5,15 @@
 
 use super::audio::{Engine, FADE, POLL_WAIT};
 use super::bank::ModalCache;
+use super::governor::voice_share;
 use super::handle::{BuildRequest, Worker, WorkerSetup};
+use super::memory::ModesFitted;
 use super::output::OutputStage;
+use super::params::ParamId;
 use super::pool::Pool;
 use crate::error::{check_positive, ParamError};
 use crossbeam_channel::RecvTimeoutError;
+use std::sync::atomic::Ordering;
 
 impl Engine {
     /// Prepares for host rate `host_rate` (Hz, any positive finite rate; rates below the model's
@@ -34,7 +38,7 @@ impl Engine {
         host_rate: f64,
         max_block: usize,
     ) -> Result<Option<ParamError>, ParamError> {
-        if self.start(host_rate, max_block)? {
+        if self.start(host_rate, max_block, false)? {
             self.wait_for_generation()
         } else {
             // The bank kept (same rate, same model) is the one asked for.
@@ -57,7 +61,7 @@ impl Engine {
         host_rate: f64,
         max_block: usize,
     ) -> Result<(), ParamError> {
-        self.start(host_rate, max_block).map(|_| ())
+        self.start(host_rate, max_block, true).map(|_| ())
     }
 
     /// Turns the CPU governor on or off (main thread, between activations, or any time
@@ -76,6 +80,35 @@ impl Engine {
         (self.governor.reduced, self.governor.shed)
     }
 
+    /// The mode count the worker lowered to fit the playing string bank's voices to the CPU
+    /// budget (`engine/string_bank.rs`), if it did. Any thread that owns the engine.
+    pub fn modes_fitted(&self) -> Option<ModesFitted> {
+        self.bank.as_ref().and_then(|b| b.fitted)
+    }
+
+    /// Heap bytes this engine holds for its models: the coupling tensors of the banks it has
+    /// (the one playing, one fading out or held by a late job) and of the worker's modal
+    /// cache. Voice states, a few vectors of modes each, are not counted. Any thread that owns
+    /// the engine.
+    pub fn memory_bytes(&self) -> u64 {
+        let banks: usize = [
+            self.bank.as_ref(),
+            self.held.as_ref(),
+            self.retiring.as_ref().map(|r| &r.0),
+        ]
+        .into_iter()
+        .flatten()
+        .map(|b| b.tensor_bytes)
+        .sum();
+        banks as u64 + self.status.cache_bytes.load(Ordering::Acquire)
+    }
+
+    /// Whether the bank playing is a preview (a small model of the same instrument a live host
+    /// plays while the full one builds; `Bank::preview_of`). Any thread that owns the engine.
+    pub fn is_preview(&self) -> bool {
+        self.bank.as_ref().is_some_and(|b| b.preview)
+    }
+
     /// Whether the engine has no bank to play yet (after [`Self::activate_realtime`], until
     /// the worker's first bank arrives): notes are silent. Any thread that owns the engine.
     pub fn is_building_first(&self) -> bool {
@@ -86,7 +119,14 @@ impl Engine {
     /// new generation, keeps the current bank when it can still play, asks the worker for the
     /// generation's bank when needed and starts the worker (once) and the pool. Returns
     /// whether the worker was asked for a bank (false: the kept bank is the one asked for).
-    fn start(&mut self, host_rate: f64, max_block: usize) -> Result<bool, ParamError> {
+    /// `realtime`: nothing waits for the bank, so a preview is asked for when nothing can
+    /// play until the bank arrives.
+    fn start(
+        &mut self,
+        host_rate: f64,
+        max_block: usize,
+        realtime: bool,
+    ) -> Result<bool, ParamError> {
         check_positive("host_rate", host_rate)?;
         if max_block == 0 {
             return Err(ParamError::new("max_block", 0, "integer >= 1"));
@@ -109,10 +149,16 @@ impl Engine {
         if self.bank.as_ref().is_some_and(|b| b.host_rate != host_rate) {
             self.bank = None;
         }
-        let first_build = self
-            .bank
-            .as_ref()
-            .is_none_or(|b| b.values.rebuild_key() != wanted.rebuild_key());
+        // A string bank fitted to another voice share (the governor switched, the budget
+        // changed) is built again.
+        let share = self
+            .governor
+            .on
+            .then(|| voice_share(wanted.get(ParamId::CpuBudget), self.governor.cores));
+        let first_build = self.bank.as_ref().is_none_or(|b| {
+            b.values.rebuild_key() != wanted.rebuild_key()
+                || (!b.kind.is_plate() && b.share != share)
+        });
         self.generation += 1;
         if let Some(b) = self.bank.as_mut() {
             b.generation = self.generation;
@@ -124,6 +170,8 @@ impl Engine {
                 active: true,
                 first_build,
                 last_good,
+                preview: realtime && first_build && self.bank.is_none(),
+                governed: self.governor.on,
             };
         }
         self.host_rate = host_rate;
@@ -146,6 +194,7 @@ impl Engine {
                 board: self.board.clone(),
                 built_key: wanted.rebuild_key(),
                 next_id: 1,
+                cores: self.governor.cores,
             })
             .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
             self.worker = Some(worker);

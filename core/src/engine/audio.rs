@@ -146,6 +146,8 @@ impl Engine {
                 active: false,
                 first_build: false,
                 last_good: None,
+                preview: false,
+                governed: false,
             })),
             generation: 0,
             worker: None,
@@ -420,7 +422,8 @@ mod tests {
         let mut wanted = refused_string();
         wanted.0[ParamId::Gain.index()] = -12.0;
         let (bank, refused) =
-            Bank::build_playable(wanted, Some(good), 48_000.0, &mut cache, &board, 1).unwrap();
+            Bank::build_playable(wanted, Some(good), 48_000.0, &mut cache, &board, 1, None)
+                .unwrap();
         let refused = refused.expect("the refusal is returned");
         assert!(refused.field.contains("length"), "{refused}");
         // The last good model's structure with the wanted playing values.
@@ -428,12 +431,12 @@ mod tests {
         assert_eq!(bank.values.get(ParamId::Gain), -12.0);
         // With no last good model: the table's defaults.
         let (bank, refused) =
-            Bank::build_playable(wanted, None, 48_000.0, &mut cache, &board, 2).unwrap();
+            Bank::build_playable(wanted, None, 48_000.0, &mut cache, &board, 2, None).unwrap();
         assert!(refused.is_some());
         assert_eq!(bank.kind, super::super::kinds::ModelKind::Gong);
         // A buildable set is built as asked.
         let (bank, refused) =
-            Bank::build_playable(good, None, 48_000.0, &mut cache, &board, 3).unwrap();
+            Bank::build_playable(good, None, 48_000.0, &mut cache, &board, 3, None).unwrap();
         assert!(refused.is_none());
         assert_eq!(bank.values, good);
     }

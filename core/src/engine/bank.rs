@@ -9,19 +9,16 @@
 use super::above_mix::{above_rate, AboveMix};
 use super::governor::CostModel;
 use super::kinds::ModelKind;
+use super::memory::ModesFitted;
 use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
 use super::pool::Lanes;
 use super::resample::Resampler;
-use super::voice::{StringVoice, Voice, VoiceModel};
+use super::string_bank::string_voices;
+use super::voice::{Voice, VoiceModel};
 use crate::error::ParamError;
 pub use crate::models::plate::basis::ModalCache;
 use crate::models::plate::StepBoard;
-use crate::models::string::spec::{
-    StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
-    StringSpec,
-};
-use crate::models::string::{StiffString, ValetteLosses};
 use std::sync::Arc;
 
 /// Host-rate samples per internal chunk: events, parameter reads and bank swaps happen on
@@ -37,8 +34,12 @@ pub const PLATE_VELOCITY_REF: f64 = 1.0;
 /// at key 60, velocity 1 peaks at 3.9 m/s: 0.97 full scale, 0.49 after its -6 dB gain).
 pub const STRING_VELOCITY_REF: f64 = 4.0;
 
-/// Steel density used to derive a string's diameter from its linear density (air losses).
-const STRING_STEEL_DENSITY: f64 = 7850.0;
+/// Transverse modes of a preview bank (`Bank::preview_of`): a plate this small builds in a
+/// fraction of a second from a cold cache.
+pub const PREVIEW_MODES: usize = 64;
+
+/// In-plane modes of a preview bank.
+pub const PREVIEW_IN_PLANE: usize = 8;
 
 /// A bank of voices for one parameter set and host rate.
 pub(crate) struct Bank {
@@ -70,10 +71,24 @@ pub(crate) struct Bank {
     pub generation: u64,
     /// The CPU governor's cost of a work unit for this bank's voices (audio thread).
     pub cost: CostModel,
+    /// The mode count the worker lowered to fit a string voice to the CPU budget
+    /// (`string_bank`), if it did.
+    pub fitted: Option<ModesFitted>,
+    /// The voice share a string bank was fitted to (`None`: built without the governor).
+    pub share: Option<f64>,
+    /// Heap bytes of the coupling tensors the voices share (0 for strings, whose state is a
+    /// few vectors of `N`).
+    pub tensor_bytes: usize,
+    /// A preview: the small model a live host plays while the full one builds
+    /// ([`Self::preview_of`]).
+    pub preview: bool,
 }
 
 impl Bank {
     /// Builds the bank for `v` at `host_rate` (worker thread; allocates, may take seconds).
+    /// `share` (seconds of work per second of audio), when the CPU governor is on, is the
+    /// most one string voice may cost: the worker fits the string's mode count to it
+    /// (`string_bank`).
     /// Plate voices whose coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries offer
     /// the second half of each step on `board` (the voice pool's helpers take it).
     pub fn build(
@@ -82,17 +97,18 @@ impl Bank {
         cache: &mut ModalCache,
         board: &Arc<StepBoard>,
         id: u64,
+        share: Option<f64>,
     ) -> Result<Bank, ParamError> {
         crate::error::check_positive("host_rate", host_rate)?;
         let kind = ModelKind::from_params(v);
         let voices_n = v.index_of(ParamId::Polyphony).max(1);
-        let modes = v.index_of(ParamId::Modes).max(1);
-        let mut voices = Vec::with_capacity(voices_n);
+        let voices;
+        let fitted;
         let norm;
         let sim_rate = Self::sim_rate_of(v);
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
-            voices = plate_voices(
+            (voices, fitted) = plate_voices(
                 kind,
                 v,
                 (sim_rate, above_rate(host_rate)),
@@ -102,90 +118,14 @@ impl Bank {
             )?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
-            let length = v.get(ParamId::Size) as f64;
-            let mu = v.get(ParamId::LinearDensity) as f64;
-            // The instrument's string as a specification, validated and built as a scene's
-            // `[string]` table is (one vocabulary, one table of ranges).
-            let losses = ValetteLosses::default();
-            // The contact law `f = K [η]_+^α` is a force per unit length. The sitar's curved
-            // bridge spans several nodes, so its force converges as the grid refines. The
-            // tanpura's point bridge sits on the nodes within `POINT_WIDTH` of its position (at
-            // least the nearest one): a force density on those nodes alone would make the
-            // bridge's total stiffness `K n Δx` follow the mode count. It is scaled to the
-            // stiffness of a contact patch `POINT_WIDTH` long, `K · POINT_WIDTH`, at every grid:
-            // 1 mm is the lecture's tanpura grid spacing (1 m / 1008), whose one-node contact
-            // is that patch, so on that grid the scale is 1.
-            const POINT_WIDTH: f64 = 1e-3;
-            let k_contact = v.get(ParamId::ContactStiffness) as f64;
-            let dx = length / (modes + 1) as f64;
-            let (obstacle, k_contact) = if kind == ModelKind::Sitar {
-                // The grid resolves the curved bridge on the nodes it spans; one shorter than
-                // a grid spacing acts on the first node (as the tanpura's point bridge acts
-                // on the nearest node), so every bridge length builds at every mode count.
-                let bridge = StringObstacle::Sitar {
-                    position: 0.0,
-                    curvature: v.get(ParamId::BridgeCurvature) as f64,
-                    height: 0.0,
-                    extent: (v.get(ParamId::BridgePosition) as f64 * length).max(dx),
-                };
-                (bridge, k_contact)
-            } else {
-                let position = v.get(ParamId::BridgePosition) as f64 * length;
-                let on_patch = (1..=modes)
-                    .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
-                    .count()
-                    .max(1);
-                let bridge = StringObstacle::Point {
-                    position,
-                    height: 0.0,
-                    width: POINT_WIDTH,
-                };
-                (bridge, k_contact * POINT_WIDTH / (on_patch as f64 * dx))
-            };
-            // Pickups read the modal sum, exact at any grid (linear interpolation between
-            // nodes would low-pass the bridge's high partials by an amount that depends on the
-            // mode count).
-            let pickup = |id: ParamId| StringOutput::Pickup {
-                position: v.get(id) as f64 * length,
-                quantity: StringQuantity::Velocity,
-                readout: StringReadout::Modal,
-            };
-            let spec = StringSpec {
-                length,
-                diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
-                tension: v.get(ParamId::Tension) as f64,
-                linear_density: mu,
-                inharmonicity: Some(v.get(ParamId::Inharmonicity) as f64),
-                bending_stiffness: None,
-                modes,
-                sim_rate,
-                losses: losses.into(),
-                obstacle,
-                contact: StringContact {
-                    stiffness: k_contact,
-                    exponent: v.get(ParamId::ContactAlpha) as f64,
-                },
-                contact_scheme: "newton".into(),
-                sav_relaxation: crate::models::string::spec::default_contact_relaxation(),
-                excitation: StringExcitation::Pluck {
-                    position: v.get(ParamId::PluckPosition) as f64 * length,
-                    amplitude: v.get(ParamId::PluckAmplitude) as f64,
-                },
-                outputs: vec![
-                    pickup(ParamId::PickupLeftPos),
-                    pickup(ParamId::PickupRightPos),
-                ],
-                snapshots: Vec::new(),
-            };
-            spec.validate()?;
-            let config = spec.config();
-            for _ in 0..voices_n {
-                let model = StiffString::new(&config)?;
-                voices.push(Voice::new(VoiceModel::String(Box::new(StringVoice::new(
-                    model, losses,
-                )))));
-            }
+            let (built, reduced) = string_voices(kind, v, sim_rate, voices_n, share)?;
+            voices = built;
+            fitted = reduced;
         }
+        let tensor_bytes = match voices.first().map(|v| &v.model) {
+            Some(VoiceModel::Plate(pv)) => pv.data.tensor_bytes,
+            _ => 0,
+        };
         let resampler = Resampler::new(sim_rate, host_rate, CHUNK);
         let max_in = resampler.max_input();
         // The band above is delayed to the resampler's latency, to sound with the band below.
@@ -206,6 +146,10 @@ impl Bank {
             values: *v,
             generation: 0,
             cost: CostModel::default(),
+            fitted,
+            share,
+            tensor_bytes,
+            preview: false,
         })
     }
 
@@ -219,8 +163,9 @@ impl Bank {
         cache: &mut ModalCache,
         board: &Arc<StepBoard>,
         id: u64,
+        share: Option<f64>,
     ) -> Result<(Box<Self>, Option<ParamError>), ParamError> {
-        let refused = match Self::build(&wanted, host_rate, cache, board, id) {
+        let refused = match Self::build(&wanted, host_rate, cache, board, id, share) {
             Ok(bank) => return Ok((Box::new(bank), None)),
             Err(e) => e,
         };
@@ -229,14 +174,30 @@ impl Bank {
             // rebuild parameters fall back.
             let mut v = wanted;
             v.take_rebuild_values(&fallback);
-            if let Ok(bank) = Self::build(&v, host_rate, cache, board, id) {
+            if let Ok(bank) = Self::build(&v, host_rate, cache, board, id, share) {
                 return Ok((Box::new(bank), Some(refused)));
             }
-            if let Ok(bank) = Self::build(&fallback, host_rate, cache, board, id) {
+            if let Ok(bank) = Self::build(&fallback, host_rate, cache, board, id, share) {
                 return Ok((Box::new(bank), Some(refused)));
             }
         }
         Err(refused)
+    }
+
+    /// The parameters of the preview of `v`: the same plate with at most [`PREVIEW_MODES`]
+    /// transverse and [`PREVIEW_IN_PLANE`] in-plane modes (same band limit, so the same
+    /// simulation rate and latency), played by a live host while the full model builds on a
+    /// cold cache. `None` for strings (they build in milliseconds) and plates already that
+    /// small. Any thread.
+    pub fn preview_of(v: &ParamValues) -> Option<ParamValues> {
+        if !ModelKind::from_params(v).is_plate() || v.index_of(ParamId::Modes) <= PREVIEW_MODES {
+            return None;
+        }
+        let mut p = *v;
+        p.0[ParamId::Modes.index()] = PREVIEW_MODES as f32;
+        let in_plane = v.index_of(ParamId::InPlaneModes).min(PREVIEW_IN_PLANE);
+        p.0[ParamId::InPlaneModes.index()] = in_plane as f32;
+        Some(p)
     }
 
     /// The simulation rate (Hz) a bank of the parameters `v` runs at: a plate's from its band

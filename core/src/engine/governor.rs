@@ -55,6 +55,24 @@ pub(crate) const FADE_CHUNKS: u8 = 8;
 /// work does not split perfectly over the cores, and the audio thread waits for the slowest.
 pub const AUTO_SHARE: f64 = 0.7;
 
+/// The budget (seconds of work per second of audio) for the `cpu_budget` value `cores` on a
+/// machine of `machine_cores` cores (0: [`AUTO_SHARE`] of them). Any thread.
+pub fn budget_of(cores: f32, machine_cores: f64) -> f64 {
+    if cores > 0.0 {
+        f64::from(cores)
+    } else {
+        AUTO_SHARE * machine_cores.max(1.0)
+    }
+}
+
+/// The most one voice may cost (seconds of work per second of audio) under the `cpu_budget`
+/// value `cores`: a voice's step runs on one thread, so at most [`AUTO_SHARE`] of one core,
+/// and never more than the whole budget. The worker fits a string bank to it
+/// (`engine/string_bank.rs`). Any thread.
+pub fn voice_share(cores: f32, machine_cores: f64) -> f64 {
+    budget_of(cores, machine_cores).min(AUTO_SHARE)
+}
+
 /// A bank's learned cost of a work unit (audio thread).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct CostModel {
@@ -116,14 +134,7 @@ impl Governor {
     /// The budget (seconds of work per second of audio) for the `cpu_budget` value `cores`
     /// (0: [`AUTO_SHARE`] of the machine's cores); `None` while the governor is off.
     pub fn budget(&self, cores: f32) -> Option<f64> {
-        if !self.on {
-            return None;
-        }
-        Some(if cores > 0.0 {
-            f64::from(cores)
-        } else {
-            AUTO_SHARE * self.cores.max(1.0)
-        })
+        self.on.then(|| budget_of(cores, self.cores))
     }
 
     /// Folds a block's `spent` wall seconds over its `duration` into the load; returns whether
@@ -177,6 +188,10 @@ mod tests {
         g.load = 0.0;
         assert!((g.budget(0.0).unwrap() - 1.4).abs() < 1e-12);
         assert_eq!(g.budget(3.0), Some(3.0));
+        // One voice: at most 70 % of one core, within the budget.
+        assert!((voice_share(0.0, 2.0) - 0.7).abs() < 1e-12);
+        assert!((voice_share(0.25, 2.0) - 0.25).abs() < 1e-12);
+        assert!((voice_share(8.0, 2.0) - 0.7).abs() < 1e-12);
         // Blocks at half their duration: never.
         for _ in 0..100 {
             assert!(!g.watch(0.005, 0.01, 480, 48_000.0));

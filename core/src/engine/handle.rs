@@ -16,7 +16,8 @@
 
 use super::bank::{Bank, ModalCache};
 use super::events::GuiCommand;
-use super::params::{ParamValues, SharedParams};
+use super::governor::voice_share;
+use super::params::{ParamId, ParamValues, SharedParams};
 use super::telemetry::Telemetry;
 use crate::error::ParamError;
 use crossbeam_channel::{Receiver, Sender, TrySendError};
@@ -43,6 +44,8 @@ pub(crate) struct WorkerStatus {
     pub rebuilding: AtomicBool,
     /// Banks built by the worker (the activations' own builds excluded).
     pub built: AtomicU64,
+    /// Heap bytes of the coupling tensors in the worker's modal cache, after its last build.
+    pub cache_bytes: AtomicU64,
     /// The last build error (worker writes, GUI reads; never the audio thread).
     pub error: Mutex<Option<String>>,
     /// The outcome of the latest generation's first build, with its generation: `Ok(None)`
@@ -72,6 +75,13 @@ pub(crate) struct BuildRequest {
     /// The parameters of the bank the engine played last (the fallback when the wanted set is
     /// refused).
     pub last_good: Option<ParamValues>,
+    /// The engine has nothing to play until the first bank arrives (a real-time activation
+    /// without a bank for this rate): the worker first builds and sends the preview
+    /// (`Bank::preview_of`), then the full model.
+    pub preview: bool,
+    /// The CPU governor is on: string banks are fitted to one voice's share of the budget
+    /// (`governor::voice_share`, `string_bank`).
+    pub governed: bool,
 }
 
 /// GUI / controller side of an [`Engine`](super::Engine): send commands, read telemetry,
@@ -146,12 +156,25 @@ pub(crate) struct WorkerSetup {
     pub built_key: ParamValues,
     /// Identifier of the next bank.
     pub next_id: u64,
+    /// Cores of the machine (the governor's default budget).
+    pub cores: f64,
+}
+
+impl WorkerSetup {
+    /// The most one voice of a bank for `v` may cost, when the generation is governed.
+    fn share(&self, current: &Current, v: &ParamValues) -> Option<f64> {
+        current
+            .governed
+            .then(|| voice_share(v.get(ParamId::CpuBudget), self.cores))
+    }
 }
 
 /// The worker's view of its current generation.
 struct Current {
     host_rate: f64,
     generation: u64,
+    /// The CPU governor was on when the generation started.
+    governed: bool,
 }
 
 impl Worker {
@@ -188,6 +211,7 @@ fn run(mut s: WorkerSetup, stop: &AtomicBool) {
     let mut current = Current {
         host_rate: 0.0,
         generation: 0,
+        governed: false,
     };
     while !stop.load(Ordering::Acquire) {
         while let Ok(old) = s.retire_rx.try_recv() {
@@ -201,11 +225,15 @@ fn run(mut s: WorkerSetup, stop: &AtomicBool) {
             current = Current {
                 host_rate: request.host_rate,
                 generation: request.generation,
+                governed: request.governed,
             };
             pending = None;
             let wanted = s.params.snapshot();
             s.built_key = wanted.rebuild_key();
             if request.first_build {
+                if request.preview {
+                    preview(&mut s, &current, &wanted, stop);
+                }
                 first_build(&mut s, &current, wanted, request.last_good, stop);
             }
         } else if request.active {
@@ -242,6 +270,7 @@ fn first_build(
     s.status.rebuilding.store(true, Ordering::Release);
     let id = s.next_id;
     s.next_id += 1;
+    let share = s.share(current, &wanted);
     let built = Bank::build_playable(
         wanted,
         last_good,
@@ -249,6 +278,7 @@ fn first_build(
         &mut s.cache,
         &s.board,
         id,
+        share,
     );
     let (bank, outcome) = match built {
         Ok((bank, refused)) => (Some(bank), Ok(refused)),
@@ -272,10 +302,29 @@ fn first_build(
     s.status.rebuilding.store(false, Ordering::Release);
 }
 
+/// Builds and sends the preview of `wanted` (`Bank::preview_of`), if it has one and builds;
+/// a refusal is left to the full build that follows, which reports it.
+fn preview(s: &mut WorkerSetup, current: &Current, wanted: &ParamValues, stop: &AtomicBool) {
+    let Some(v) = Bank::preview_of(wanted) else {
+        return;
+    };
+    s.status.rebuilding.store(true, Ordering::Release);
+    let id = s.next_id;
+    s.next_id += 1;
+    if let Ok(mut bank) = Bank::build(&v, current.host_rate, &mut s.cache, &s.board, id, None) {
+        bank.generation = current.generation;
+        bank.preview = true;
+        send(s, Box::new(bank), stop);
+    }
+}
+
 /// Sends `bank` to the audio thread, waiting while the channel holds an earlier bank the
 /// audio thread has not taken (dropping returned banks meanwhile) unless the worker is asked
 /// to stop or the engine's generation moves on.
 fn send(s: &mut WorkerSetup, mut bank: Box<Bank>, stop: &AtomicBool) {
+    s.status
+        .cache_bytes
+        .store(s.cache.heap_bytes() as u64, Ordering::Release);
     loop {
         match s.bank_tx.try_send(bank) {
             Ok(()) | Err(TrySendError::Disconnected(_)) => return,
@@ -301,7 +350,8 @@ fn build_and_send(s: &mut WorkerSetup, current: &Current, v: &ParamValues, stop:
     s.status.rebuilding.store(true, Ordering::Release);
     let id = s.next_id;
     s.next_id += 1;
-    match Bank::build(v, current.host_rate, &mut s.cache, &s.board, id) {
+    let share = s.share(current, v);
+    match Bank::build(v, current.host_rate, &mut s.cache, &s.board, id, share) {
         Ok(mut bank) => {
             if let Ok(mut e) = s.status.error.lock() {
                 *e = None;

@@ -119,6 +119,9 @@ pub mod governor;
 mod handle;
 mod handover;
 mod kinds;
+pub mod memory;
+#[cfg(test)]
+mod memory_tests;
 mod mix;
 mod notes;
 pub mod output;
@@ -129,6 +132,7 @@ pub mod preset;
 mod readout;
 pub mod resample;
 pub mod scala;
+mod string_bank;
 mod telemetry;
 pub mod tuning;
 pub mod voice;
@@ -138,6 +142,7 @@ pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::{Material, ModelKind};
+pub use memory::{FitReason, ModesFitted};
 pub use mix::SILENCE_RATIO;
 pub use output::{OutputStage, CEILING, LOOKAHEAD};
 pub use params::{

@@ -256,6 +256,8 @@ params! {
         "Plates: the linear modes of the plate above its simulated band, up to 20 kHz (or 0.45 of the host rate), sounding with exactly the energy the cascade closure absorbs (silent while the closure is off or idle). Off: nothing sounds above the band.";
     CpuBudget, "cpu_budget", "CPU budget", "cores", 0.0, 64.0, 0.0, F, false,
         "Live play (the plugin in a real-time host): the voices' measured work may use this many cores' time (0: 70 % of the machine's). A note that would pass it starts with a narrower band (fewer modes), and when even that does not fit, or blocks overrun, the quietest voice ends; every reduction is counted and shown. Offline renders ignore it.";
+    MemoryCap, "memory_cap", "Memory cap", "MB", 0.0, 262144.0, 0.0, F, true,
+        "Plates: the most memory one instance's coupling tensors may take, in MB (0: a quarter of the machine's memory, at most 4096 MB). A plate whose tensors would need more is built with fewer modes, a tier at a time (each 1/sqrt(2) of the modes, the in-plane modes in proportion), and the reduction is shown; it is never built at full size first.";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

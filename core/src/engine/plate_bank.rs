@@ -9,6 +9,7 @@
 //! Worker thread (allocates; seconds for large bases on a cold modal cache).
 
 use super::kinds::{Material, ModelKind};
+use super::memory::{cap_bytes, fit_tiers, FitReason, ModesFitted};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{
@@ -17,7 +18,7 @@ use super::voice::{
 };
 use crate::error::ParamError;
 use crate::modal::{omega_scale, TensorStorage};
-use crate::models::plate::basis::{BasisKey, ModalCache, PlateBasis};
+use crate::models::plate::basis::{shared_tier, BasisKey, ModalCache, PlateBasis};
 use crate::models::plate::extension::mode_count;
 use crate::models::plate::rest_projection::project;
 use crate::models::plate::rest_shape::ShapePart;
@@ -181,9 +182,8 @@ pub(crate) fn plate_voices(
     voices_n: usize,
     cache: &mut ModalCache,
     board: &Arc<StepBoard>,
-) -> Result<Vec<Voice>, ParamError> {
-    let modes = v.index_of(ParamId::Modes).max(1);
-    let n_psi = v.index_of(ParamId::InPlaneModes);
+) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
+    let wanted = v.index_of(ParamId::Modes).max(1);
     let m = Material::from_params(v);
     let (shape, symmetry) = match kind {
         ModelKind::RectPlate => (PlateShape::RectSs, Symmetry::Full),
@@ -191,7 +191,22 @@ pub(crate) fn plate_voices(
         _ => (PlateShape::CircularFree, Symmetry::StrikeMirror),
     };
     let aspect = v.get(ParamId::Aspect) as f64;
-    let key = BasisKey::new(shape, m.poisson, aspect, modes, n_psi, symmetry)?;
+    // The memory cap (`engine/memory.rs`): the top tiers come off until the predicted tensors
+    // fit, before anything is built.
+    let key_of =
+        |n: usize, m_psi: usize| BasisKey::new(shape, m.poisson, aspect, n, m_psi, symmetry);
+    let wanted_psi = v.index_of(ParamId::InPlaneModes);
+    let ladder = tier_ladder(wanted, wanted_psi);
+    let (modes, fitted_psi) = fit_tiers(&ladder, cap_bytes(v.get(ParamId::MemoryCap)), key_of)?[0];
+    // A linear plate (no in-plane modes) stays linear: its ladder's one in-plane slot is the
+    // basis's, not a mode it simulates.
+    let n_psi = if wanted_psi == 0 { 0 } else { fitted_psi };
+    let fitted = (modes < wanted).then_some(ModesFitted {
+        wanted: wanted as u32,
+        built: modes as u32,
+        reason: FitReason::Memory,
+    });
+    let key = key_of(modes, n_psi)?;
     let basis = cache.basis(&key)?;
     let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
     let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
@@ -207,14 +222,19 @@ pub(crate) fn plate_voices(
     // `f32` once and every layout rebuilt from them, so the voice's discrete energy is that of
     // the rounded tensor and still conserved to `f64` round-off (tests/plates, single storage),
     // while the kernels stream half the bytes.
-    let single = Arc::new(basis.coupling.with_storage(TensorStorage::Single)?);
+    // The tiers are shared with the other engines of the process that hold them
+    // (`models::plate::basis::shared_tier`).
+    let full = &basis.coupling;
+    let single = shared_tier(&key, (full.n_phi(), full.n_psi()), || {
+        full.with_storage(TensorStorage::Single)
+    })?;
     let couplings = tiers
         .iter()
         .map(|&(n, m)| {
             if (n, m) == (single.n_phi(), single.n_psi()) {
                 Ok(single.clone())
             } else {
-                single.truncated(n, m).map(Arc::new)
+                shared_tier(&key, (n, m), || single.truncated(n, m))
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -225,6 +245,12 @@ pub(crate) fn plate_voices(
         .zip(&couplings)
         .map(|(&(n, _), c)| (c.nnz() + n) as f64)
         .collect();
+    let tensor_bytes = single.heap_bytes()
+        + couplings
+            .iter()
+            .filter(|c| !Arc::ptr_eq(c, &single))
+            .map(|c| c.heap_bytes())
+            .sum::<usize>();
     let data = Arc::new(PlateData {
         lambda2: basis.lambda2().to_vec(),
         zeta4: basis.zeta4().to_vec(),
@@ -236,6 +262,7 @@ pub(crate) fn plate_voices(
         tiers: tiers.clone(),
         tier_work,
         band_hz: v.get(ParamId::BandLimit) as f64,
+        tensor_bytes,
         shape_dome,
         shape_boss,
     });
@@ -273,5 +300,5 @@ pub(crate) fn plate_voices(
             above_rate,
         )))));
     }
-    Ok(voices)
+    Ok((voices, fitted))
 }

@@ -214,6 +214,7 @@ impl Engine {
             newton_cap_hits: self.newton_cap_hits,
             diverged: self.diverged,
             guarded: self.guarded_samples(),
+            memory_bytes: self.memory_bytes(),
             ..Telemetry::default()
         };
         for c in 0..2 {
@@ -227,6 +228,8 @@ impl Engine {
         self.cpu_peak = 0.0;
         if let Some(b) = self.bank.as_mut() {
             t.bank = b.id;
+            t.modes_fitted = b.fitted;
+            t.preview = b.preview;
             t.sim_rate = b.sim_rate as f32;
             let mut loudest: Option<(usize, f64)> = None;
             for (i, v) in b.voices.iter().enumerate().take(MAX_VOICES) {

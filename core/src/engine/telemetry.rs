@@ -3,6 +3,7 @@
 //!
 //! Plain `Copy` data of fixed size: pushing it never allocates.
 
+use super::memory::ModesFitted;
 use crate::models::source::EnergyTerms;
 
 /// Largest polyphony (the `polyphony` parameter's maximum): the telemetry holds this many
@@ -95,6 +96,13 @@ pub struct Telemetry {
     pub governor_reduced: u64,
     /// Voices the CPU governor ended to make room or because blocks overran.
     pub governor_shed: u64,
+    /// The string bank in use was built with fewer modes than asked, to fit one voice in the
+    /// CPU budget (`engine/string_bank.rs`).
+    pub modes_fitted: Option<ModesFitted>,
+    /// The bank in use is a preview (a small model while the full one builds).
+    pub preview: bool,
+    /// Heap bytes of the engine's coupling tensors (`Engine::memory_bytes`).
+    pub memory_bytes: u64,
     /// Whether the worker is building a new voice bank.
     pub rebuilding: bool,
     /// Identifier of the voice bank in use (increments with every swap).
@@ -133,6 +141,9 @@ impl Default for Telemetry {
             late_jobs: 0,
             governor_reduced: 0,
             governor_shed: 0,
+            modes_fitted: None,
+            preview: false,
+            memory_bytes: 0,
             rebuilding: false,
             bank: 0,
             newton_cap_hits: 0,

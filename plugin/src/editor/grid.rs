@@ -127,6 +127,7 @@ const SECTIONS: [Section; 7] = {
                 Polyphony,
                 Threads,
                 CpuBudget,
+                MemoryCap,
             ],
             open: false,
             strings: None,

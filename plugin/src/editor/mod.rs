@@ -29,7 +29,7 @@ use meters::EnergyHistory;
 use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
-use noether_core::engine::{EventKind, ParamId, Telemetry, MODEL_NAMES};
+use noether_core::engine::{EventKind, FitReason, ParamId, Telemetry, MODEL_NAMES};
 use preset_bar::PresetBar;
 use std::sync::Arc;
 use std::time::Duration;
@@ -92,9 +92,12 @@ impl EditorApp {
             if self.telemetry.rebuilding {
                 ui.spinner();
                 // Bank 0: nothing built yet at this activation (silent until it is ready);
-                // otherwise the last good model plays meanwhile.
+                // a preview bank: a small model of the instrument plays; otherwise the last
+                // good model plays meanwhile.
                 let text = if self.telemetry.bank == 0 {
                     "BUILDING MODEL · silent until it is ready"
+                } else if self.telemetry.preview {
+                    "BUILDING MODEL · a smaller preview plays until it is ready"
                 } else {
                     "REBUILDING MODEL · the last model plays"
                 };
@@ -120,11 +123,12 @@ impl EditorApp {
             let t = &self.telemetry;
             plots::cpu_bar(ui, t.cpu_load / f32::from(t.threads.max(1)), 110.0).on_hover_text(
                 format!(
-                    "{:.2} cores busy on {} · peak block {:.0} % · {} late",
+                    "{:.2} cores busy on {} · peak block {:.0} % · {} late · tensors {:.1} MB",
                     t.cpu_load,
                     plural(usize::from(t.threads), "thread", "threads"),
                     100.0 * t.cpu_peak,
                     plural(t.late_jobs as usize, "job", "jobs"),
+                    t.memory_bytes as f64 / 1048576.0,
                 ),
             );
             // The CPU governor's reductions (the `cpu_budget` parameter).
@@ -141,6 +145,25 @@ impl EditorApp {
                     "Notes started with a narrower band, and voices ended, to keep within the \
                      CPU budget (Quality panel)",
                 );
+            }
+            if let Some(f) = t.modes_fitted {
+                let (what, why) = match f.reason {
+                    FitReason::Cpu => (
+                        "CPU budget",
+                        "One voice of this string with all its modes would cost more than its \
+                         share of the CPU budget (Quality panel): the model was built with fewer",
+                    ),
+                    FitReason::Memory => (
+                        "Memory cap",
+                        "This plate's coupling tensors with all its modes would take more memory \
+                         than the memory cap (Quality panel): the model was built with fewer",
+                    ),
+                };
+                ui.label(
+                    RichText::new(format!("{what}: {} of {} modes", f.built, f.wanted))
+                        .color(Color32::from_rgb(255, 170, 40)),
+                )
+                .on_hover_text(why);
             }
         });
         if let Some(e) = &self.build_error {

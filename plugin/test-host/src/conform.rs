@@ -69,15 +69,15 @@ pub struct ConformOptions {
     pub seed: u64,
     /// How many random parameter sets the `params` cases try.
     pub permutations: usize,
-    /// Case groups to run (`rate`, `block`, `events`, `params`, `bounds`, `state`, `flush`,
-    /// `silence`, `activate`);
+    /// Case groups to run (`rate`, `block`, `events`, `load`, `params`, `bounds`, `state`,
+    /// `flush`, `silence`, `activate`);
     /// empty: all.
     pub only: Vec<String>,
 }
 
 /// The case groups, in the order they run.
-pub(crate) const GROUPS: [&str; 9] = [
-    "silence", "flush", "rate", "block", "events", "state", "bounds", "params", "activate",
+pub(crate) const GROUPS: [&str; 10] = [
+    "silence", "flush", "rate", "block", "events", "load", "state", "bounds", "params", "activate",
 ];
 
 impl ConformOptions {
@@ -145,6 +145,11 @@ impl Runner {
 pub fn conform(o: &ConformOptions) -> Result<(), String> {
     let c0 = process_cpu_seconds();
     let t0 = std::time::Instant::now();
+    // The plugin logs to this file (nice-plug reads `NICE_LOG` when the plugin is first
+    // created, below; the test host is single-threaded here), read by the last case.
+    let log = std::env::temp_dir().join(format!("noether-conform-{}.log", std::process::id()));
+    let _ = std::fs::remove_file(&log);
+    std::env::set_var("NICE_LOG", &log);
     let s = Session::load(&o.plugin)?;
     println!(
         "conform {}: {} parameters, seed {}, {} random sets",
@@ -162,14 +167,20 @@ pub fn conform(o: &ConformOptions) -> Result<(), String> {
             "rate" => rates(&s, &mut run),
             "block" => blocks(&s, &mut run),
             "state" => crate::conform_params::state(&s, o.seed, &mut run),
-            "bounds" => crate::conform_params::bounds(&s, &mut run),
+            "bounds" => {
+                crate::conform_params::conversions(&s, &mut run);
+                crate::conform_params::bounds(&s, &mut run);
+            }
             "params" => crate::conform_params::permutations(&s, o.seed, o.permutations, &mut run),
             "events" => crate::conform_live::events(&s, &mut run),
+            "load" => crate::conform_live::load(&s, &mut run),
             "activate" => crate::conform_live::activate(&s, o.seed, o.permutations, &mut run),
             _ => unreachable!("GROUPS lists the groups"),
         }
         println!("group {group}: {:.1} s CPU", process_cpu_seconds() - g0);
     }
+    crate::conform_live::log_is_clean(&log, &mut run);
+    let _ = std::fs::remove_file(&log);
     println!(
         "conform: {} passed, {} failed, {:.1} s CPU (all threads), {:.1} s wall",
         run.passed,

@@ -144,6 +144,53 @@ pub(crate) fn bounds(s: &Session, run: &mut Runner) {
     }
 }
 
+/// Values per parameter the `conversions` case tries: evenly spaced over the range, ends
+/// included (clap-validator's `param-conversions` found "Band limit" at 19/68 of its range).
+const CONVERSION_STEPS: usize = 2040;
+
+/// Value → text → value → text gives the same text for every parameter at
+/// [`CONVERSION_STEPS`] + 1 values of its range (clap-validator's `param-conversions`: the
+/// host shows the text it reads back, so the round trip must be consistent).
+pub(crate) fn conversions(s: &Session, run: &mut Runner) {
+    run.case(
+        &format!(
+            "bounds: value to text to value to text, {} values per parameter",
+            CONVERSION_STEPS + 1
+        ),
+        || {
+            let mut inst = s.instance()?;
+            let ext: PluginParams = inst
+                .plugin_handle()
+                .get_extension()
+                .ok_or("no params extension")?;
+            let mut checked = 0;
+            for p in &s.params {
+                for step in 0..=CONVERSION_STEPS {
+                    let mut v = p.min + (p.max - p.min) * step as f64 / CONVERSION_STEPS as f64;
+                    if p.stepped {
+                        v = v.round();
+                    }
+                    let text = text_of(&ext, &mut inst, p.id, v)?;
+                    let c =
+                        CString::new(text.as_str()).map_err(|_| format!("bad text `{text}`"))?;
+                    let back = ext
+                        .text_to_value(&inst.plugin_handle(), p.id, &c)
+                        .ok_or_else(|| format!("{}: cannot parse its own `{text}`", p.name))?;
+                    let again = text_of(&ext, &mut inst, p.id, back)?;
+                    if again != text {
+                        return Err(format!(
+                            "{}: {v} shows `{text}`, read back as {back}, which shows `{again}`",
+                            p.name
+                        ));
+                    }
+                    checked += 1;
+                }
+            }
+            Ok(format!("{checked} round trips consistent"))
+        },
+    );
+}
+
 /// The CLAP value the plugin gives for display text `text` of parameter `name`.
 pub(crate) fn clap_value(
     s: &Session,

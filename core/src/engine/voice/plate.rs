@@ -105,6 +105,9 @@ pub(crate) struct PlateData {
     pub band_hz: f64,
     /// The plate's modes continued past the basis, for the band above ([`above`]).
     pub above: AboveModes,
+    /// Heap bytes of the tiers' coupling tensors (shared by the voices; the basis's own tensor,
+    /// in the worker's cache, not counted).
+    pub tensor_bytes: usize,
     /// The dome's rest shape per unit rise on the unit plate, every mode (dimensionless;
     /// `a_k = L h · dome · shape_dome_k`, [`shape`]).
     pub shape_dome: Vec<f64>,

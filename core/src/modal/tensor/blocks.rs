@@ -91,6 +91,13 @@ impl Default for BlockValues {
 }
 
 impl BlockValues {
+    fn heap_bytes(&self) -> usize {
+        match self {
+            Self::Double(v) => crate::modal::tensor::runs::vec_bytes(v),
+            Self::Single(p) => p.heap_bytes(),
+        }
+    }
+
     fn len(&self) -> usize {
         match self {
             Self::Double(v) => v.len(),
@@ -172,6 +179,19 @@ pub(crate) fn mode_classes(n_phi: usize, row_start: &[u32], i: &[u32], j: &[u32]
 pub(crate) const PAD: usize = 4;
 
 impl BlockLayout {
+    /// Heap bytes held (the vectors' capacities, the remainder's runs included). Any thread.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::modal::tensor::runs::vec_bytes;
+        vec_bytes(&self.orig)
+            + vec_bytes(&self.class_start)
+            + vec_bytes(&self.row_blocks)
+            + vec_bytes(&self.blocks)
+            + self.values.heap_bytes()
+            + vec_bytes(&self.row_touched)
+            + vec_bytes(&self.touched)
+            + self.rest.heap_bytes()
+    }
+
     /// Builds the layout from validated CSR parts (`j ≤ i < n_phi ≤ 65 536`, rows sorted by
     /// `(i, j)`), with `f64` block values, or `f32` row panels when `single` (then every `v`
     /// must be an `f32` value, so that the blocks hold exactly `v`). Worker thread; allocates.

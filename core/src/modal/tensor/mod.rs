@@ -30,7 +30,7 @@ mod truncate;
 
 use crate::error::ParamError;
 use blocks::{BlockLayout, PAD};
-use runs::{RunLayout, MAX_N_PHI};
+use runs::{vec_bytes, RunLayout, MAX_N_PHI};
 use serde::{Deserialize, Serialize};
 
 /// How a [`CouplingTensor`] stores its values (scene field `plate.tensor_storage`).
@@ -199,6 +199,17 @@ impl CouplingTensor {
     /// Number of in-plane modes `N_Ψ`.
     pub fn n_psi(&self) -> usize {
         self.n_psi
+    }
+
+    /// Heap bytes the tensor holds: its entry arrays and both kernel layouts (the vectors'
+    /// capacities). Any thread.
+    pub fn heap_bytes(&self) -> usize {
+        vec_bytes(&self.row_start)
+            + vec_bytes(&self.i)
+            + vec_bytes(&self.j)
+            + vec_bytes(&self.value)
+            + self.runs.heap_bytes()
+            + self.blocks.heap_bytes()
     }
 
     /// Number of stored entries (nonzero `H^l_{ij}` with `j ≤ i`).

@@ -94,6 +94,12 @@ pub(crate) struct Panels {
 }
 
 impl Panels {
+    /// Heap bytes held (the vectors' capacities). Any thread.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::modal::tensor::runs::vec_bytes;
+        vec_bytes(&self.values) + vec_bytes(&self.chunks) + vec_bytes(&self.row_chunks)
+    }
+
     /// An empty layout for `n_phi` modes whose kernels get vectors of `n_phi + pad` values
     /// (`pad ≥ 3`: the padded rows of the last class), at the first row.
     pub(crate) fn new(n_phi: usize, pad: usize) -> Self {

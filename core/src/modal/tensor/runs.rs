@@ -46,10 +46,25 @@ pub(crate) struct RunLayout {
     half: Vec<f64>,
 }
 
+/// Heap bytes of a vector's allocation (its capacity), for the layouts' `heap_bytes`. Any
+/// thread.
+pub(crate) fn vec_bytes<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}
+
 /// Largest `N_Φ` the layout can index (`u16`).
 pub(crate) const MAX_N_PHI: usize = 1 << 16;
 
 impl RunLayout {
+    /// Heap bytes held (the vectors' capacities). Any thread.
+    pub(crate) fn heap_bytes(&self) -> usize {
+        vec_bytes(&self.row_runs)
+            + vec_bytes(&self.run_i)
+            + vec_bytes(&self.run_end)
+            + vec_bytes(&self.col)
+            + vec_bytes(&self.half)
+    }
+
     /// Builds the layout from validated CSR parts (`j ≤ i < n_phi ≤ MAX_N_PHI`, rows sorted by
     /// `(i, j)`). Worker thread.
     pub(crate) fn new(n_phi: usize, row_start: &[u32], i: &[u32], j: &[u32], v: &[f64]) -> Self {

@@ -113,6 +113,7 @@ pub mod rest_projection;
 pub mod rest_shape;
 mod sav;
 pub mod shape;
+mod shared;
 mod sparse;
 pub mod spec;
 pub mod step_join;

@@ -1,0 +1,229 @@
+//! The string voices of a bank: the instrument's string as a scene's `[string]` specification
+//! (one vocabulary, one table of ranges), and, under the CPU governor, the mode count that
+//! keeps one voice within its share of real time.
+//!
+//! **Fitting a string to the budget.** A plate's note can start on a narrower tier of its
+//! bank; a string voice is one model, so its cost is fitted when the bank is built. The worker
+//! times a trial voice (thread CPU time, so the load of other threads does not count): the
+//! string plucked as hard as a note can pluck it (velocity 1, the mod wheel's full depth),
+//! [`TRIAL_SECONDS`] of audio in windows of [`WINDOW_SECONDS`] (about a host block), the
+//! attack's contact included. Its load (seconds of work per second of audio) must stay within
+//! the voice's share, on average and within [`WORST_WINDOW`] times it in the worst window;
+//! if not, the mode count comes down in proportion (the step is `O(N log N)` or `O(N · rows)`,
+//! nearly linear in `N`) with a margin and the trial runs again, at most [`FIT_ATTEMPTS`]
+//! times. The reduction is reported with the bank ([`ModesFitted`]). Off the governor (offline
+//! renders) the string keeps every mode it asks for.
+//!
+//! Worker thread (allocates; a trial takes at most about `FIT_ATTEMPTS · TRIAL_SECONDS` of
+//! audio at the budget's share of real time, a fraction of a second).
+
+use super::kinds::ModelKind;
+use super::memory::{FitReason, ModesFitted};
+use super::params::{ParamId, ParamValues};
+use super::voice::{StringVoice, Voice, VoiceModel};
+use crate::clock::thread_cpu_time;
+use crate::error::ParamError;
+use crate::models::string::spec::{
+    StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
+    StringSpec,
+};
+use crate::models::string::{StiffString, StringConfig, TrianglePluck, ValetteLosses};
+
+/// Steel density used to derive a string's diameter from its linear density (air losses).
+const STRING_STEEL_DENSITY: f64 = 7850.0;
+
+/// Audio timed by one trial (s): the attack, where the bridge contact is densest.
+pub(crate) const TRIAL_SECONDS: f64 = 0.06;
+
+/// Audio per timed window (s): about a host block of 256 samples at 48 kHz.
+pub(crate) const WINDOW_SECONDS: f64 = 0.005;
+
+/// The worst window may cost this many times the voice's share (the governor's target: no
+/// block above twice real time).
+pub(crate) const WORST_WINDOW: f64 = 2.0;
+
+/// Trials at most (each after a reduction).
+pub(crate) const FIT_ATTEMPTS: usize = 5;
+
+/// Share of the proportional reduction kept as margin (the cost is not exactly linear in
+/// the mode count).
+const FIT_MARGIN: f64 = 0.85;
+
+/// Fewest modes a fitted string keeps.
+pub(crate) const MIN_FITTED_MODES: usize = 16;
+
+/// A trial's load: seconds of work per second of audio.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct TrialLoad {
+    /// Over the whole trial.
+    pub mean: f64,
+    /// In the costliest window.
+    pub worst: f64,
+}
+
+/// The string voices of a bank of `kind` for the parameters `v` at `sim_rate` (Hz), and the
+/// fitted mode count if `share` (the largest load of one voice, seconds per second) made the
+/// worker reduce it. Worker thread.
+pub(super) fn string_voices(
+    kind: ModelKind,
+    v: &ParamValues,
+    sim_rate: f64,
+    voices_n: usize,
+    share: Option<f64>,
+) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
+    let wanted = v.index_of(ParamId::Modes).max(1);
+    let mut modes = wanted;
+    let mut config = string_config(kind, v, modes, sim_rate)?;
+    if let Some(share) = share {
+        let amount = 1.0 + f64::from(v.get(ParamId::ModWheelDepth)).max(0.0);
+        for _ in 0..FIT_ATTEMPTS {
+            let Some(load) = trial_load(&config, v, amount, sim_rate) else {
+                break;
+            };
+            let scale = (share / load.mean).min(WORST_WINDOW * share / load.worst);
+            if scale >= 1.0 || modes <= MIN_FITTED_MODES {
+                break;
+            }
+            modes = ((modes as f64 * scale * FIT_MARGIN) as usize).max(MIN_FITTED_MODES);
+            config = string_config(kind, v, modes, sim_rate)?;
+        }
+    }
+    let mut voices = Vec::with_capacity(voices_n);
+    for _ in 0..voices_n {
+        let model = StiffString::new(&config)?;
+        voices.push(Voice::new(VoiceModel::String(Box::new(StringVoice::new(
+            model,
+            ValetteLosses::default(),
+        )))));
+    }
+    let fitted = (modes < wanted).then_some(ModesFitted {
+        wanted: wanted as u32,
+        built: modes as u32,
+        reason: FitReason::Cpu,
+    });
+    Ok((voices, fitted))
+}
+
+/// Times a trial voice of `config` plucked with `amount` times the pluck amplitude: the
+/// load of [`TRIAL_SECONDS`] of audio at `sim_rate`. `None` where the thread clock is missing
+/// or the pluck is refused (then nothing is fitted).
+pub(crate) fn trial_load(
+    config: &StringConfig,
+    v: &ParamValues,
+    amount: f64,
+    sim_rate: f64,
+) -> Option<TrialLoad> {
+    let mut model = StiffString::new(config).ok()?;
+    let length = model.params().length;
+    model
+        .pluck(&TrianglePluck {
+            position: f64::from(v.get(ParamId::PluckPosition)) * length,
+            amplitude: f64::from(v.get(ParamId::PluckAmplitude)) * amount,
+        })
+        .ok()?;
+    let window = ((WINDOW_SECONDS * sim_rate).round() as usize).max(1);
+    let windows = ((TRIAL_SECONDS / WINDOW_SECONDS).round() as usize).max(1);
+    let (mut total, mut worst) = (0.0f64, 0.0f64);
+    for _ in 0..windows {
+        let t0 = thread_cpu_time()?;
+        for _ in 0..window {
+            model.step();
+        }
+        let spent = thread_cpu_time()?.saturating_sub(t0).as_secs_f64();
+        total += spent;
+        worst = worst.max(spent);
+    }
+    let audio = window as f64 / sim_rate;
+    Some(TrialLoad {
+        mean: total / (windows as f64 * audio),
+        worst: worst / audio,
+    })
+}
+
+/// The instrument's string for `v` with `modes` modes at `sim_rate`, validated.
+fn string_config(
+    kind: ModelKind,
+    v: &ParamValues,
+    modes: usize,
+    sim_rate: f64,
+) -> Result<StringConfig, ParamError> {
+    let spec = string_spec(kind, v, modes, sim_rate);
+    spec.validate()?;
+    Ok(spec.config())
+}
+
+/// The instrument's string as a specification.
+fn string_spec(kind: ModelKind, v: &ParamValues, modes: usize, sim_rate: f64) -> StringSpec {
+    let length = v.get(ParamId::Size) as f64;
+    let mu = v.get(ParamId::LinearDensity) as f64;
+    // The contact law `f = K [η]_+^α` is a force per unit length. The sitar's curved
+    // bridge spans several nodes, so its force converges as the grid refines. The
+    // tanpura's point bridge sits on the nodes within `POINT_WIDTH` of its position (at
+    // least the nearest one): a force density on those nodes alone would make the
+    // bridge's total stiffness `K n Δx` follow the mode count. It is scaled to the
+    // stiffness of a contact patch `POINT_WIDTH` long, `K · POINT_WIDTH`, at every grid:
+    // 1 mm is the lecture's tanpura grid spacing (1 m / 1008), whose one-node contact
+    // is that patch, so on that grid the scale is 1.
+    const POINT_WIDTH: f64 = 1e-3;
+    let k_contact = v.get(ParamId::ContactStiffness) as f64;
+    let dx = length / (modes + 1) as f64;
+    let (obstacle, k_contact) = if kind == ModelKind::Sitar {
+        // The grid resolves the curved bridge on the nodes it spans; one shorter than
+        // a grid spacing acts on the first node (as the tanpura's point bridge acts
+        // on the nearest node), so every bridge length builds at every mode count.
+        let bridge = StringObstacle::Sitar {
+            position: 0.0,
+            curvature: v.get(ParamId::BridgeCurvature) as f64,
+            height: 0.0,
+            extent: (v.get(ParamId::BridgePosition) as f64 * length).max(dx),
+        };
+        (bridge, k_contact)
+    } else {
+        let position = v.get(ParamId::BridgePosition) as f64 * length;
+        let on_patch = (1..=modes)
+            .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
+            .count()
+            .max(1);
+        let bridge = StringObstacle::Point {
+            position,
+            height: 0.0,
+            width: POINT_WIDTH,
+        };
+        (bridge, k_contact * POINT_WIDTH / (on_patch as f64 * dx))
+    };
+    // Pickups read the modal sum, exact at any grid (linear interpolation between
+    // nodes would low-pass the bridge's high partials by an amount that depends on the
+    // mode count).
+    let pickup = |id: ParamId| StringOutput::Pickup {
+        position: v.get(id) as f64 * length,
+        quantity: StringQuantity::Velocity,
+        readout: StringReadout::Modal,
+    };
+    StringSpec {
+        length,
+        diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
+        tension: v.get(ParamId::Tension) as f64,
+        linear_density: mu,
+        inharmonicity: Some(v.get(ParamId::Inharmonicity) as f64),
+        bending_stiffness: None,
+        modes,
+        sim_rate,
+        losses: ValetteLosses::default().into(),
+        obstacle,
+        contact: StringContact {
+            stiffness: k_contact,
+            exponent: v.get(ParamId::ContactAlpha) as f64,
+        },
+        contact_scheme: "newton".into(),
+        sav_relaxation: crate::models::string::spec::default_contact_relaxation(),
+        excitation: StringExcitation::Pluck {
+            position: v.get(ParamId::PluckPosition) as f64 * length,
+            amplitude: v.get(ParamId::PluckAmplitude) as f64,
+        },
+        outputs: vec![
+            pickup(ParamId::PickupLeftPos),
+            pickup(ParamId::PickupRightPos),
+        ],
+        snapshots: Vec::new(),
+    }
+}
