@@ -12,7 +12,8 @@
 //! the top of the quality ranges costs minutes per second of audio); the row then shows the
 //! blocks it played.
 //!
-//! `cargo run --release --example governor_blocks [-- SETS [SECONDS]]` (defaults 20 and 2).
+//! `cargo run --release --example governor_blocks [-- SETS [SECONDS [on]]]` (defaults 20 and
+//! 2; `on`: the governed runs only, for many sets, the ungoverned column left empty).
 
 use noether::engine::{Engine, Event, EventKind, ParamId, ParamValues, SharedParams, PARAMS};
 use noether_testkit::soak::Draw;
@@ -82,12 +83,14 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let sets: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(20);
     let seconds: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
+    let only_on = args.get(3).is_some_and(|a| a == "on");
     let mut draw = Draw::new(0x005e_ed0f_b10c);
     println!(
         "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended | string fitted |"
     );
     println!("| --- | --- | ---: | --- | --- | --- | --- |");
     let (mut worst_on, mut mean_on_max) = (0.0f64, 0.0f64);
+    let (mut worsts, mut means) = (Vec::new(), Vec::new());
     for i in 0..sets {
         let mut v = ParamValues::defaults();
         for p in PARAMS {
@@ -112,9 +115,21 @@ fn main() {
         // The governor first, from the bank's prior cost (the run without it teaches nothing
         // the governor would use, but keep the order honest).
         let on = run(&mut e, seconds, true);
-        let off = run(&mut e, seconds, false);
+        let off = if only_on {
+            Run {
+                blocks: 0,
+                mean: f64::NAN,
+                max: f64::NAN,
+                cut: false,
+                counts: (0, 0),
+            }
+        } else {
+            run(&mut e, seconds, false)
+        };
         worst_on = worst_on.max(on.max);
         mean_on_max = mean_on_max.max(on.mean);
+        worsts.push(on.max);
+        means.push(on.mean);
         let name = noether::engine::MODEL_NAMES
             .get(v.index_of(ParamId::Model))
             .copied()
@@ -138,4 +153,19 @@ fn main() {
         );
     }
     println!("with the governor: worst block {worst_on:.2} of its duration, largest mean {mean_on_max:.2}");
+    worsts.sort_by(f64::total_cmp);
+    means.sort_by(f64::total_cmp);
+    let at = |v: &[f64], q: f64| v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1];
+    if !worsts.is_empty() {
+        println!(
+            "{} sets built: worst block median {:.2}, p99 {:.2}; mean median {:.2}, p99 {:.2}; {} sets with a block above 2, {} with a mean above 1",
+            worsts.len(),
+            at(&worsts, 0.5),
+            at(&worsts, 0.99),
+            at(&means, 0.5),
+            at(&means, 0.99),
+            worsts.iter().filter(|&&w| w > 2.0).count(),
+            means.iter().filter(|&&m| m > 1.0).count()
+        );
+    }
 }
