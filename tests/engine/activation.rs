@@ -45,6 +45,22 @@ fn block(e: &mut Engine, note: bool) -> f32 {
     })
 }
 
+/// Plays a note (40 blocks, the note-on in the first) and asserts that `what` sounds: a peak
+/// above 1e-3 (-60 dBFS).
+fn assert_sounds(e: &mut Engine, what: &str) {
+    let peak = (0..40).map(|i| block(e, i == 0)).fold(0.0f32, f32::max);
+    assert!(peak > 1e-3, "{what} sounds: peak {peak}");
+}
+
+/// The most transverse modes a sounding voice simulates.
+fn most_modes(e: &Engine) -> u32 {
+    (0..e.polyphony())
+        .filter_map(|s| e.voice_model(s))
+        .map(|m| m.n_phi)
+        .max()
+        .expect("a voice sounds")
+}
+
 /// Processes silent blocks until the engine has a bank (at most 120 s).
 fn until_built(e: &mut Engine) {
     wait_while(e, "a bank", Engine::is_building_first);
@@ -84,10 +100,7 @@ fn a_realtime_activation_returns_before_the_build_and_plays_when_it_arrives() {
         "the latency announced at activation"
     );
     assert!(h.last_error().is_none());
-    let peak = (0..40)
-        .map(|i| block(&mut e, i == 0))
-        .fold(0.0f32, f32::max);
-    assert!(peak > 1e-3, "the built model sounds: peak {peak}");
+    assert_sounds(&mut e, "the built model");
 }
 
 /// With nothing to play (no bank at this rate), a real-time activation of a large plate
@@ -103,26 +116,13 @@ fn a_cold_realtime_activation_plays_a_preview_until_the_full_model_arrives() {
     until_built(&mut e);
     assert!(e.is_preview(), "the first bank is the preview");
     assert_eq!(e.latency_samples(), expected);
-    let peak = (0..40)
-        .map(|i| block(&mut e, i == 0))
-        .fold(0.0f32, f32::max);
-    assert!(peak > 1e-3, "the preview sounds: peak {peak}");
-    let preview_modes = (0..e.polyphony())
-        .find_map(|s| e.voice_model(s))
-        .map(|m| m.n_phi)
-        .expect("a voice sounds");
+    assert_sounds(&mut e, "the preview");
+    let preview_modes = most_modes(&e);
     assert!(preview_modes <= 64, "{preview_modes} modes");
     wait_while(&mut e, "full model", Engine::is_preview);
     assert!(h.last_error().is_none());
-    let peak = (0..40)
-        .map(|i| block(&mut e, i == 0))
-        .fold(0.0f32, f32::max);
-    assert!(peak > 1e-3, "the full model sounds: peak {peak}");
-    let full_modes = (0..e.polyphony())
-        .filter_map(|s| e.voice_model(s))
-        .map(|m| m.n_phi)
-        .max()
-        .expect("a voice sounds");
+    assert_sounds(&mut e, "the full model");
+    let full_modes = most_modes(&e);
     assert!(full_modes > 64, "{full_modes} modes");
     // A small model has no preview: its first bank is the model itself.
     let (mut small, _h) = small_gong();
@@ -141,20 +141,14 @@ fn a_reactivation_keeps_the_bank_at_the_same_rate_and_rebuilds_at_a_new_one() {
     e.activate_realtime(48_000.0, BLOCK).unwrap();
     assert_eq!(e.bank_id(), first);
     assert!(!e.is_building_first());
-    let peak = (0..40)
-        .map(|i| block(&mut e, i == 0))
-        .fold(0.0f32, f32::max);
-    assert!(peak > 1e-3, "the kept bank sounds: peak {peak}");
+    assert_sounds(&mut e, "the kept bank");
     // A new rate: the old bank cannot play there; silence until the new one arrives.
     e.activate_realtime(44_100.0, BLOCK).unwrap();
     assert!(e.is_building_first());
     until_built(&mut e);
     assert_ne!(e.bank_id(), first);
     assert_eq!(e.host_rate(), 44_100.0);
-    let peak = (0..40)
-        .map(|i| block(&mut e, i == 0))
-        .fold(0.0f32, f32::max);
-    assert!(peak > 1e-3, "the new bank sounds: peak {peak}");
+    assert_sounds(&mut e, "the new bank");
     // And a blocking activation after a realtime one still returns with its bank.
     e.activate(48_000.0, BLOCK).unwrap();
     assert!(!e.is_building_first());

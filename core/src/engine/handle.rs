@@ -161,6 +161,13 @@ pub(crate) struct WorkerSetup {
 }
 
 impl WorkerSetup {
+    /// Marks a build as under way and returns the identifier of the bank it makes.
+    fn begin_build(&mut self) -> u64 {
+        self.status.rebuilding.store(true, Ordering::Release);
+        self.next_id += 1;
+        self.next_id - 1
+    }
+
     /// The most one voice of a bank for `v` may cost, when the generation is governed.
     fn share(&self, current: &Current, v: &ParamValues) -> Option<f64> {
         current
@@ -267,9 +274,7 @@ fn first_build(
     last_good: Option<ParamValues>,
     stop: &AtomicBool,
 ) {
-    s.status.rebuilding.store(true, Ordering::Release);
-    let id = s.next_id;
-    s.next_id += 1;
+    let id = s.begin_build();
     let share = s.share(current, &wanted);
     let built = Bank::build_playable(
         wanted,
@@ -308,9 +313,7 @@ fn preview(s: &mut WorkerSetup, current: &Current, wanted: &ParamValues, stop: &
     let Some(v) = Bank::preview_of(wanted) else {
         return;
     };
-    s.status.rebuilding.store(true, Ordering::Release);
-    let id = s.next_id;
-    s.next_id += 1;
+    let id = s.begin_build();
     if let Ok(mut bank) = Bank::build(&v, current.host_rate, &mut s.cache, &s.board, id, None) {
         bank.generation = current.generation;
         bank.preview = true;
@@ -347,9 +350,7 @@ fn send(s: &mut WorkerSetup, mut bank: Box<Bank>, stop: &AtomicBool) {
 }
 
 fn build_and_send(s: &mut WorkerSetup, current: &Current, v: &ParamValues, stop: &AtomicBool) {
-    s.status.rebuilding.store(true, Ordering::Release);
-    let id = s.next_id;
-    s.next_id += 1;
+    let id = s.begin_build();
     let share = s.share(current, v);
     match Bank::build(v, current.host_rate, &mut s.cache, &s.board, id, share) {
         Ok(mut bank) => {

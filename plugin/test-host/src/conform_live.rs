@@ -22,7 +22,7 @@ use std::time::Instant;
 use crate::conform::Runner;
 use crate::conform_params::clap_value;
 use crate::conform_render::{set_values, Rng, Session};
-use crate::host::{new_realtime_instance, process_stereo, TestHost};
+use crate::host::{activate_started, new_realtime_instance, process_stereo, TestHost};
 
 /// Bound of the 99th percentile of `activate()`'s wall time (s).
 const ACTIVATE_P99: f64 = 0.020;
@@ -104,18 +104,7 @@ fn small_gong(
         values[k] = v;
     }
     set_values(&mut inst, &s.params, &values)?;
-    let config = PluginAudioConfiguration {
-        sample_rate: RATE,
-        min_frames_count: 1,
-        max_frames_count: BLOCK,
-    };
-    let stopped = inst
-        .activate(|_, _| (), config)
-        .map_err(|e| format!("activate failed: {e:?}"))?;
-    let proc = stopped
-        .start_processing()
-        .map_err(|_| "start_processing failed".to_string())?;
-    Ok((inst, proc))
+    activate_started(inst, RATE, BLOCK)
 }
 
 /// Note ends in time order when a parameter change splits a block at the sample of two notes.

@@ -51,7 +51,7 @@ use std::f64::consts::PI;
 use std::path::PathBuf;
 
 use crate::conform_render::{load_state, Session};
-use crate::host::{process_stereo, TestHost};
+use crate::host::{activate_started, process_stereo, TestHost};
 use crate::path_arg;
 
 /// Host rate of the renders (Hz).
@@ -180,18 +180,7 @@ pub(crate) fn started(
 > {
     let mut inst = s.instance()?;
     load_state(&mut inst, blob)?;
-    let config = PluginAudioConfiguration {
-        sample_rate: RATE,
-        min_frames_count: 1,
-        max_frames_count: BLOCK as u32,
-    };
-    let stopped = inst
-        .activate(|_, _| (), config)
-        .map_err(|e| format!("activate: {e:?}"))?;
-    let proc = stopped
-        .start_processing()
-        .map_err(|e| format!("start_processing: {e:?}"))?;
-    Ok((inst, proc))
+    activate_started(inst, RATE, BLOCK as u32)
 }
 
 /// Renders `SECONDS` of a fresh instance with `blob` loaded and `events` at frame 0; returns

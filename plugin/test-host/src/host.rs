@@ -155,6 +155,33 @@ pub(crate) struct Param {
     pub stepped: bool,
 }
 
+/// Activates `inst` at `rate` for blocks of 1 to `max_frames` frames and starts processing
+/// (the set-up of the `expression` and live `conform` cases). Main thread.
+pub(crate) fn activate_started(
+    mut inst: PluginInstance<TestHost>,
+    rate: f64,
+    max_frames: u32,
+) -> Result<
+    (
+        PluginInstance<TestHost>,
+        StartedPluginAudioProcessor<TestHost>,
+    ),
+    String,
+> {
+    let config = PluginAudioConfiguration {
+        sample_rate: rate,
+        min_frames_count: 1,
+        max_frames_count: max_frames,
+    };
+    let stopped = inst
+        .activate(|_, _| (), config)
+        .map_err(|e| format!("activate failed: {e:?}"))?;
+    let proc = stopped
+        .start_processing()
+        .map_err(|e| format!("start_processing failed: {e:?}"))?;
+    Ok((inst, proc))
+}
+
 /// A new instance of plugin `id` from `entry`, with the test host's identity, in CLAP's
 /// offline render mode: the test host renders as a bounce does, so an activation waits for
 /// the model and every render repeats bit for bit (a real-time activation returns at once and

@@ -314,18 +314,15 @@ impl ModalCache {
     /// the disk cache (circular) or computed (rectangles build faster than their tensor reads
     /// back, so they are not cached on disk).
     pub fn basis(&mut self, key: &BasisKey) -> Result<PlateBasis, ParamError> {
-        match *key {
+        let (modes, coupling, cache): (Arc<dyn ModalBasis>, _, _) = match *key {
             BasisKey::Circular(spec) => {
-                let shared = CIRCULAR_MODES.get(&spec).zip(CIRCULAR_TENSORS.get(&spec));
-                let (modes, coupling, cache) = match (&self.circular, shared) {
-                    (Some((s, m, c)), _) if *s == spec => {
-                        (m.clone(), c.clone(), "memory".to_string())
-                    }
-                    (_, Some((m, c))) => {
-                        self.circular = Some((spec, m.clone(), c.clone()));
-                        (m, c, "shared with another engine".to_string())
-                    }
-                    _ => {
+                let shared = (&CIRCULAR_MODES, &CIRCULAR_TENSORS);
+                let (m, c, cache) = lookup(
+                    &mut self.circular,
+                    shared,
+                    spec,
+                    |m| &mut m.coupling,
+                    || {
                         let (modes, outcome) =
                             PlateModes::load_or_build(&spec, &default_cache_dir())?;
                         let cache = match outcome {
@@ -334,14 +331,10 @@ impl ModalCache {
                             CacheOutcome::Rebuilt(why) => format!("rebuilt ({why})"),
                             CacheOutcome::NotSaved(why) => format!("built, not saved ({why})"),
                         };
-                        let (modes, coupling) = split_coupling(modes, |m| &mut m.coupling);
-                        CIRCULAR_MODES.insert(spec, &modes);
-                        CIRCULAR_TENSORS.insert(spec, &coupling);
-                        self.circular = Some((spec, modes.clone(), coupling.clone()));
-                        (modes, coupling, cache)
-                    }
-                };
-                Ok(PlateBasis::new(modes, coupling, cache))
+                        Ok((modes, cache))
+                    },
+                )?;
+                (m, c, cache)
             }
             BasisKey::Rect {
                 aspect,
@@ -349,31 +342,56 @@ impl ModalCache {
                 n_psi,
             } => {
                 let k = (aspect.to_bits(), n_phi, n_psi);
-                let shared = RECT_MODES.get(&k).zip(RECT_TENSORS.get(&k));
-                let (modes, coupling, cache) = match (&self.rect, shared) {
-                    (Some((kk, m, c)), _) if *kk == k => {
-                        (m.clone(), c.clone(), "memory".to_string())
-                    }
-                    (_, Some((m, c))) => {
-                        self.rect = Some((k, m.clone(), c.clone()));
-                        (m, c, "shared with another engine".to_string())
-                    }
-                    _ => {
+                let shared = (&RECT_MODES, &RECT_TENSORS);
+                let (m, c, cache) = lookup(
+                    &mut self.rect,
+                    shared,
+                    k,
+                    |m| &mut m.coupling,
+                    || {
                         let modes = RectModes::build(&RectSpec::new(aspect, n_phi, n_psi))
                             .map_err(|e| {
                                 ParamError::new("modes", n_phi, format!("a buildable basis ({e})"))
                             })?;
-                        let (modes, coupling) = split_coupling(modes, |m| &mut m.coupling);
-                        RECT_MODES.insert(k, &modes);
-                        RECT_TENSORS.insert(k, &coupling);
-                        self.rect = Some((k, modes.clone(), coupling.clone()));
-                        (modes, coupling, "not cached (built directly)".to_string())
-                    }
-                };
-                Ok(PlateBasis::new(modes, coupling, cache))
+                        Ok((modes, "not cached (built directly)".to_string()))
+                    },
+                )?;
+                (m, c, cache)
             }
+        };
+        Ok(PlateBasis::new(modes, coupling, cache))
+    }
+}
+
+/// One shape's basis for `key` and the cache's report: the cache's own entry `own` when it is
+/// for `key` ("memory"), else another engine's from the registries `shared` ("shared with
+/// another engine"), else built by `build` (the basis and its report), its tensor moved out
+/// of it ([`split_coupling`], `coupling_of` naming the field) and recorded in `own` and
+/// `shared`. Worker thread.
+fn lookup<K: PartialEq + Copy, M>(
+    own: &mut Option<(K, Arc<M>, Arc<CouplingTensor>)>,
+    shared: (&Registry<K, M>, &Registry<K, CouplingTensor>),
+    key: K,
+    coupling_of: impl Fn(&mut M) -> &mut CouplingTensor,
+    build: impl FnOnce() -> Result<(M, String), ParamError>,
+) -> Result<(Arc<M>, Arc<CouplingTensor>, String), ParamError> {
+    if let Some((k, m, c)) = own.as_ref() {
+        if *k == key {
+            return Ok((m.clone(), c.clone(), "memory".to_string()));
         }
     }
+    let (modes, coupling, cache) = match shared.0.get(&key).zip(shared.1.get(&key)) {
+        Some((m, c)) => (m, c, "shared with another engine".to_string()),
+        None => {
+            let (modes, cache) = build()?;
+            let (m, c) = split_coupling(modes, coupling_of);
+            shared.0.insert(key, &m);
+            shared.1.insert(key, &c);
+            (m, c, cache)
+        }
+    };
+    *own = Some((key, modes.clone(), coupling.clone()));
+    Ok((modes, coupling, cache))
 }
 
 #[cfg(test)]
