@@ -12,8 +12,11 @@
 //! the top of the quality ranges costs minutes per second of audio); the row then shows the
 //! blocks it played.
 //!
-//! `cargo run --release --example governor_blocks [-- SETS [SECONDS [on]]]` (defaults 20 and
-//! 2; `on`: the governed runs only, for many sets, the ungoverned column left empty).
+//! `cargo run --release --example governor_blocks [-- SETS [SECONDS [on [PAUSE]]]]` (defaults
+//! 20 and 2; `on`: the governed runs only, for many sets, the ungoverned column left empty;
+//! `PAUSE`: seconds to wait before each set, so the machine settles after the previous one:
+//! a set at the top of the ranges frees gigabytes and writes its modes to the disk cache, and
+//! the kernel's work on that lands in the next sets' blocks).
 
 use noether::engine::{Engine, Event, EventKind, ParamId, ParamValues, SharedParams, PARAMS};
 use noether_testkit::soak::Draw;
@@ -84,6 +87,7 @@ fn main() {
     let sets: usize = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(20);
     let seconds: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
     let only_on = args.get(3).is_some_and(|a| a == "on");
+    let pause: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(0.0);
     let mut draw = Draw::new(0x005e_ed0f_b10c);
     println!(
         "| set | model, modes x in-plane, band, polyphony | build s | off: blocks, mean, max | on: mean, max | narrowed, ended | string fitted |"
@@ -103,6 +107,7 @@ fn main() {
             println!("| {i} | refused: {err} | | | | | |");
             continue;
         }
+        std::thread::sleep(Duration::from_secs_f64(pause));
         let (mut e, _h) = Engine::new(params);
         let t0 = Instant::now();
         e.set_governor(true);

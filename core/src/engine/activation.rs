@@ -150,7 +150,8 @@ impl Engine {
             self.bank = None;
         }
         // A string bank fitted to another voice share (the governor switched, the budget
-        // changed) is built again.
+        // changed) is built again, and a plate bank priced (or not) by trials when the
+        // governor is on (off) is built again priced the other way (`engine/cost_trial.rs`).
         let share = self
             .governor
             .on
@@ -158,6 +159,7 @@ impl Engine {
         let first_build = self.bank.as_ref().is_none_or(|b| {
             b.values.rebuild_key() != wanted.rebuild_key()
                 || (!b.kind.is_plate() && b.share != share)
+                || (b.kind.is_plate() && b.share.is_some() != share.is_some())
         });
         self.generation += 1;
         if let Some(b) = self.bank.as_mut() {

@@ -7,6 +7,7 @@
 //! to be dropped.
 
 use super::above_mix::{above_rate, AboveMix};
+use super::cost_trial::Jobs;
 use super::governor::CostModel;
 use super::kinds::ModelKind;
 use super::memory::ModesFitted;
@@ -87,8 +88,8 @@ pub(crate) struct Bank {
 impl Bank {
     /// Builds the bank for `v` at `host_rate` (worker thread; allocates, may take seconds).
     /// `share` (seconds of work per second of audio), when the CPU governor is on, is the
-    /// most one string voice may cost: the worker fits the string's mode count to it
-    /// (`string_bank`).
+    /// most one voice may cost: the worker prices the voices by trials
+    /// (`engine/cost_trial.rs`) and fits a string's mode count to it (`string_bank`).
     /// Plate voices whose coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries offer
     /// the second half of each step on `board` (the voice pool's helpers take it).
     pub fn build(
@@ -108,17 +109,24 @@ impl Bank {
         let sim_rate = Self::sim_rate_of(v);
         if kind.is_plate() {
             norm = 1.0 / PLATE_VELOCITY_REF;
-            (voices, fitted) = plate_voices(
-                kind,
-                v,
-                (sim_rate, above_rate(host_rate)),
-                voices_n,
-                cache,
-                board,
-            )?;
+            let jobs = Jobs {
+                host: host_rate,
+                sim: sim_rate,
+                above: above_rate(host_rate),
+                chunk: CHUNK,
+                gain: norm,
+            };
+            (voices, fitted) = plate_voices(kind, v, jobs, voices_n, cache, board, share)?;
         } else {
             norm = 1.0 / STRING_VELOCITY_REF;
-            let (built, reduced) = string_voices(kind, v, sim_rate, voices_n, share)?;
+            let jobs = Jobs {
+                host: host_rate,
+                sim: sim_rate,
+                above: 0.0,
+                chunk: CHUNK,
+                gain: norm,
+            };
+            let (built, reduced) = string_voices(kind, v, jobs, voices_n, share)?;
             voices = built;
             fitted = reduced;
         }

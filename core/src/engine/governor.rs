@@ -1,19 +1,29 @@
 //! The CPU governor: processing in bounded time while a live host waits for every block.
 //!
-//! **The cost of a note.** A voice's step costs about `c · W`: `W` its work in *units* (a
-//! plate tier's stored coupling-tensor entries plus its modes, the kernels' multiply-adds; a
-//! string's `N²`), `c` seconds per unit per step, learned on the audio thread from the voice
-//! jobs' own wall times ([`CostModel::observe`]: an exponential average over the jobs of at
-//! least [`MIN_OBSERVED_STEPS`] steps, per bank, since the unit's cost depends on the scheme
-//! and the model; before the first job, [`PRIOR_SECONDS_PER_UNIT`]). A voice then costs
-//! `c · W · f_s` seconds per second of audio at simulation rate `f_s`.
+//! **The cost of a note.** Every voice has a price: the seconds one simulation step of its
+//! current model takes. Under the governor the worker measures it before it sends the bank
+//! (`engine/cost_trial.rs`): it times one voice playing a note struck or plucked at full
+//! strength, each plate tier in turn and the string model, in thread CPU time (so the load
+//! of other threads does not count). Off the governor (offline renders) nothing is measured
+//! and a price is the prior estimate [`PRIOR_SECONDS_PER_UNIT`] per work unit (a plate tier's
+//! stored coupling-tensor entries plus its modes, a string's `N²`). On the audio thread a
+//! bank's [`CostModel`] corrects the prices by the ratio of the voice jobs' measured wall
+//! times to their prices (an exponential average over the jobs of at least
+//! [`MIN_OBSERVED_STEPS`] steps; 1 before the first job), which follows what the trial
+//! cannot see: the machine's other load, a helper taking half of a large step, the keys
+//! played. A voice then costs `r · c · f_s` seconds per second of audio, `c` its price, `r`
+//! the correction and `f_s` the simulation rate.
 //!
-//! **Before a note starts** (plates), the engine sums the cost of the voices that keep
-//! sounding and gives the new note the work that fits in the budget: the note's band comes
-//! down a tier at a time (each tier `1/√2` of the modes, the in-plane modes in proportion;
-//! `voice::plate`) until its step fits. If not even the smallest tier fits, the quietest
-//! other voices are ended (polyphony, the last resort) until it does. The order is that of
-//! musical harm: a narrower band first, then fewer voices.
+//! **Before a note starts**, the engine sums the cost of the voices that keep sounding; if
+//! the budget has no room for the note's cheapest model (a plate's smallest tier, the string;
+//! priced at least at its trial's price, [`CostModel::attack_load`]) the quietest other voices
+//! are ended (polyphony) until it has. A plate note then starts on
+//! the largest tier its band asks for that fits both the room left and one voice's share
+//! ([`voice_share`]: a voice's step runs on one thread, so a voice priced above the share
+//! would make every block late however few voices sound). The band comes down a tier at a
+//! time (each tier `1/√2` of the modes, the in-plane modes in proportion; `voice::plate`).
+//! The order is that of musical harm: a narrower band first, then fewer voices. A string is
+//! one model, fitted to the share when the bank is built (`engine/string_bank.rs`).
 //!
 //! **While playing** ([`Governor::watch`]) it follows the measured wall time of each block
 //! against the block's duration (an average over about [`WATCH_SECONDS`]); above
@@ -26,12 +36,14 @@
 //! (`Engine::set_governor`). Its budget is the `cpu_budget` parameter (cores, 0: 70 % of the
 //! machine's).
 //!
-//! Threads: audio thread (the cost model in the bank, the governor in the engine); the voice
-//! jobs write their wall time into their voice on whichever thread runs them.
+//! Threads: worker (the prices), audio thread (the correction in the bank, the governor in
+//! the engine); the voice jobs write their wall time into their voice on whichever thread
+//! runs them.
 
-/// Seconds per work unit per step assumed before the first measured job (a generous 2 ns:
-/// the plates' kernels measure 0.24-0.8 ns per stored entry on this machine, docs/
-/// performance.md), so a first note errs on the cheap side of its band.
+/// The prior price of a work unit (seconds per step), used where nothing was measured
+/// (offline renders, where the governor is off, and a machine without a thread clock): a
+/// generous 2 ns (the plates' kernels measure 0.24-0.8 ns per stored entry on this machine,
+/// docs/performance.md).
 pub(crate) const PRIOR_SECONDS_PER_UNIT: f64 = 2e-9;
 
 /// Jobs shorter than this many steps are not measured (their fixed costs would dominate).
@@ -73,11 +85,12 @@ pub fn voice_share(cores: f32, machine_cores: f64) -> f64 {
     budget_of(cores, machine_cores).min(AUTO_SHARE)
 }
 
-/// A bank's learned cost of a work unit (audio thread).
+/// A bank's correction of its voices' prices by their measured jobs (audio thread).
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct CostModel {
-    /// Seconds per work unit per step.
-    pub seconds_per_unit: f64,
+    /// Measured job wall time over the price of its steps (dimensionless; 1 before the first
+    /// job).
+    pub ratio: f64,
     /// Jobs measured.
     pub observed: u64,
 }
@@ -85,31 +98,44 @@ pub(crate) struct CostModel {
 impl Default for CostModel {
     fn default() -> Self {
         Self {
-            seconds_per_unit: PRIOR_SECONDS_PER_UNIT,
+            ratio: 1.0,
             observed: 0,
         }
     }
 }
 
 impl CostModel {
-    /// Learns from one job: `seconds` of wall time for `steps` steps of `work` units each.
-    /// The first measurement replaces the prior; later ones are averaged in.
-    pub fn observe(&mut self, work: f64, steps: usize, seconds: f64) {
-        if steps < MIN_OBSERVED_STEPS || work <= 0.0 || seconds.is_nan() || seconds <= 0.0 {
+    /// Learns from one job: `seconds` of wall time for `steps` steps priced `price` seconds
+    /// each. The first measurement replaces the prior; later ones are averaged in.
+    pub fn observe(&mut self, price: f64, steps: usize, seconds: f64) {
+        let usable = |x: f64| x.is_finite() && x > 0.0;
+        if steps < MIN_OBSERVED_STEPS || !usable(price) || !usable(seconds) {
             return;
         }
-        let x = seconds / (work * steps as f64);
-        self.seconds_per_unit = if self.observed == 0 {
+        let x = seconds / (price * steps as f64);
+        if !x.is_finite() {
+            return;
+        }
+        self.ratio = if self.observed == 0 {
             x
         } else {
-            (1.0 - COST_WEIGHT) * self.seconds_per_unit + COST_WEIGHT * x
+            (1.0 - COST_WEIGHT) * self.ratio + COST_WEIGHT * x
         };
         self.observed += 1;
     }
 
-    /// Seconds of work per second of audio of a voice of `work` units at `sim_rate` (Hz).
-    pub fn load(&self, work: f64, sim_rate: f64) -> f64 {
-        self.seconds_per_unit * work * sim_rate
+    /// Seconds of work per second of audio of a sounding voice priced `price` seconds per
+    /// step at `sim_rate` (Hz).
+    pub fn load(&self, price: f64, sim_rate: f64) -> f64 {
+        self.ratio * price * sim_rate
+    }
+
+    /// The load of a note about to start: as [`Self::load`], but never below its price. The
+    /// trial priced the attack, where a string's bridge contact is densest; the correction
+    /// learns from the sounding voices, mostly past their attacks (strings' ratios fall to
+    /// 0.2-0.4), and a new note priced with it made its note-on blocks late.
+    pub fn attack_load(&self, price: f64, sim_rate: f64) -> f64 {
+        self.ratio.max(1.0) * price * sim_rate
     }
 }
 
@@ -158,20 +184,30 @@ impl Governor {
 mod tests {
     use super::*;
 
-    /// The cost model replaces its prior with the first job, averages later ones, ignores
-    /// short jobs, and predicts a voice's load as `c W f_s`.
+    /// The correction replaces its prior with the first job, averages later ones, ignores
+    /// short jobs and unusable times, and predicts a voice's load as `r c f_s`.
     #[test]
     fn the_cost_model_learns_from_jobs() {
         let mut c = CostModel::default();
-        assert_eq!(c.seconds_per_unit, PRIOR_SECONDS_PER_UNIT);
-        c.observe(1000.0, 8, 1.0);
+        assert_eq!(c.ratio, 1.0);
+        // 10 µs per step before the first job: 0.2 s per second at 20 kHz.
+        assert!((c.load(1e-5, 20_000.0) - 0.2).abs() < 1e-12);
+        c.observe(1e-5, 8, 1.0);
         assert_eq!(c.observed, 0, "a job of 8 steps is not measured");
-        c.observe(1000.0, 100, 1e-4);
-        assert!((c.seconds_per_unit - 1e-9).abs() < 1e-24);
-        c.observe(1000.0, 100, 2e-4);
-        assert!((c.seconds_per_unit - 1.1e-9).abs() < 1e-22);
-        // 1.1 ns x 10 000 units x 20 kHz = 0.22 s per second.
-        assert!((c.load(10_000.0, 20_000.0) - 0.22).abs() < 1e-12);
+        c.observe(1e-5, 100, f64::NAN);
+        c.observe(0.0, 100, 1e-3);
+        assert_eq!(c.observed, 0, "no price or no time: nothing learned");
+        c.observe(1e-5, 100, 2e-3);
+        assert!((c.ratio - 2.0).abs() < 1e-12);
+        c.observe(1e-5, 100, 1e-3);
+        assert!((c.ratio - 1.9).abs() < 1e-12);
+        // 1.9 x 10 µs x 20 kHz = 0.38 s per second.
+        assert!((c.load(1e-5, 20_000.0) - 0.38).abs() < 1e-12);
+        assert!((c.attack_load(1e-5, 20_000.0) - 0.38).abs() < 1e-12);
+        // A ratio below 1 lowers the sounding voices' loads, not a new note's.
+        c.ratio = 0.25;
+        assert!((c.load(1e-5, 20_000.0) - 0.05).abs() < 1e-12);
+        assert!((c.attack_load(1e-5, 20_000.0) - 0.2).abs() < 1e-12);
     }
 
     /// Off: no budget and no watch. On: the budget is the parameter, or 70 % of the cores

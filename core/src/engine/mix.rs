@@ -138,7 +138,7 @@ pub(crate) fn run_bank(
                 // SAFETY: `take` returned the voice to this thread; `base` is this chunk's.
                 let v = unsafe { &mut *base.add(i) };
                 if ok {
-                    b.cost.observe(v.work(), m, v.job_seconds);
+                    b.cost.observe(v.price(), m, v.job_seconds);
                     // The note's key-tracked level, volume and pan expressions, outside the
                     // voice's ceiling check (which bounds the physics, not the mix); a voice
                     // the governor ends fades out over its last chunks.

@@ -114,6 +114,9 @@ mod above_mix;
 mod activation;
 mod audio;
 mod bank;
+mod cost_trial;
+#[cfg(test)]
+mod cost_trial_tests;
 mod events;
 pub mod governor;
 mod handle;

@@ -5,7 +5,7 @@
 use super::audio::{Engine, RETUNE_INTERVAL};
 use super::bank::Bank;
 use super::events::{EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
-use super::governor::FADE_CHUNKS;
+use super::governor::{voice_share, FADE_CHUNKS};
 use super::params::{ParamId, PARAMS};
 use super::voice::{Physics, Voice, VoiceModel};
 use ringbuf::traits::Consumer;
@@ -41,7 +41,7 @@ impl Engine {
             values: self.values,
             bend: self.bend,
             tuning: self.key_tuning,
-            work_cap: f64::INFINITY,
+            price_cap: f64::INFINITY,
         }
     }
 
@@ -132,9 +132,11 @@ impl Engine {
             });
         if let Some(i) = slot {
             let mut p = p;
-            if let Some(budget) = self.governor.budget(self.values.get(ParamId::CpuBudget)) {
-                let (cap, shed) = fit_note(b, i, budget);
-                p.work_cap = cap;
+            let cores = self.values.get(ParamId::CpuBudget);
+            if let Some(budget) = self.governor.budget(cores) {
+                let share = voice_share(cores, self.governor.cores);
+                let (cap, shed) = fit_note(b, i, budget, share);
+                p.price_cap = cap;
                 self.governor.shed += shed;
             }
             let v = &mut b.voices[i];
@@ -314,15 +316,17 @@ impl Engine {
     }
 }
 
-/// The work cap for a note about to start on voice `slot` of `b` within `budget` seconds of
-/// work per second of audio, and how many other voices were ended to make room (only when
-/// not even a plate's smallest tier fits; `engine/governor.rs`). Audio thread.
-fn fit_note(b: &mut Bank, slot: usize, budget: f64) -> (f64, u64) {
+/// The price cap (s per step) for a note about to start on voice `slot` of `b` within
+/// `budget` seconds of work per second of audio, a voice costing at most `share`, and how
+/// many other voices were ended to make room (only when the budget has no room for the
+/// note's cheapest model: a plate's smallest tier, the string; `engine/governor.rs`). Audio
+/// thread.
+fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
     let rate = b.sim_rate;
     let cost = b.cost;
-    let smallest = match &b.voices[slot].model {
-        VoiceModel::Plate(pv) => pv.data.tier_work.last().copied().unwrap_or(0.0),
-        VoiceModel::String(_) => return (f64::INFINITY, 0),
+    let cheapest = match &b.voices[slot].model {
+        VoiceModel::Plate(pv) => pv.data.tier_price.last().copied().unwrap_or(0.0),
+        VoiceModel::String(sv) => sv.price,
     };
     let mut shed = 0;
     loop {
@@ -331,19 +335,19 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64) -> (f64, u64) {
             .iter()
             .enumerate()
             .filter(|(k, v)| *k != slot && v.active && v.fading == 0)
-            .map(|(_, v)| cost.load(v.work(), rate))
+            .map(|(_, v)| cost.load(v.price(), rate))
             .sum();
-        let cap = (budget - others) / cost.load(1.0, rate);
-        if cap >= smallest {
-            return (cap, shed);
+        let room = budget - others;
+        if room >= cost.attack_load(cheapest, rate) {
+            return (room.min(share) / cost.attack_load(1.0, rate), shed);
         }
         match quietest(&mut b.voices, slot) {
             Some(v) => {
                 v.fading = FADE_CHUNKS;
                 shed += 1;
             }
-            // Nothing left to end: the note takes the smallest tier.
-            None => return (cap, shed),
+            // Nothing left to end: the note takes its cheapest model.
+            None => return (room.min(share) / cost.attack_load(1.0, rate), shed),
         }
     }
 }

@@ -8,6 +8,8 @@
 //!
 //! Worker thread (allocates; seconds for large bases on a cold modal cache).
 
+use super::cost_trial::{plate_prices, Jobs};
+use super::governor::PRIOR_SECONDS_PER_UNIT;
 use super::kinds::{Material, ModelKind};
 use super::memory::{cap_bytes, fit_tiers, FitReason, ModesFitted};
 use super::params::{ParamId, ParamValues};
@@ -178,11 +180,13 @@ fn above_count(basis: &PlateBasis, v: &ParamValues) -> Result<usize, ParamError>
 pub(crate) fn plate_voices(
     kind: ModelKind,
     v: &ParamValues,
-    (sim_rate, above_rate): (f64, f64),
+    jobs: Jobs,
     voices_n: usize,
     cache: &mut ModalCache,
     board: &Arc<StepBoard>,
+    share: Option<f64>,
 ) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
+    let (sim_rate, above_rate) = (jobs.sim, jobs.above);
     let wanted = v.index_of(ParamId::Modes).max(1);
     let m = Material::from_params(v);
     let (shape, symmetry) = match kind {
@@ -238,12 +242,13 @@ pub(crate) fn plate_voices(
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
-    // The governor's work of one step per tier: the stored tensor entries (the kernels'
-    // multiply-adds) plus the modes (the linear part and the pickups).
-    let tier_work = tiers
+    // The governor's prior price of a step per tier: the stored tensor entries (the kernels'
+    // multiply-adds) plus the modes (the linear part and the pickups), at the prior price of
+    // a unit; measured below when the governor is on.
+    let tier_price = tiers
         .iter()
         .zip(&couplings)
-        .map(|(&(n, _), c)| (c.nnz() + n) as f64)
+        .map(|(&(n, _), c)| PRIOR_SECONDS_PER_UNIT * (c.nnz() + n) as f64)
         .collect();
     let tensor_bytes = single.heap_bytes()
         + couplings
@@ -260,7 +265,7 @@ pub(crate) fn plate_voices(
         snapshot: snapshot_rows(kind, &basis),
         poisson: m.poisson,
         tiers: tiers.clone(),
-        tier_work,
+        tier_price,
         band_hz: v.get(ParamId::BandLimit) as f64,
         tensor_bytes,
         shape_dome,
@@ -299,6 +304,21 @@ pub(crate) fn plate_voices(
             sim_rate,
             above_rate,
         )))));
+    }
+    // Under the CPU governor the tiers are priced by trials of the first voice
+    // (`engine/cost_trial.rs`), and every voice shares the measured prices.
+    if let (Some(share), Some(first)) = (share, voices.first_mut()) {
+        if let Some(prices) = plate_prices(first, v, jobs, share) {
+            let measured = Arc::new(PlateData {
+                tier_price: prices,
+                ..(*data).clone()
+            });
+            for voice in &mut voices {
+                if let VoiceModel::Plate(pv) = &mut voice.model {
+                    pv.data = measured.clone();
+                }
+            }
+        }
     }
     Ok((voices, fitted))
 }

@@ -4,39 +4,33 @@
 //!
 //! **Fitting a string to the budget.** A plate's note can start on a narrower tier of its
 //! bank; a string voice is one model, so its cost is fitted when the bank is built. The worker
-//! times a trial voice (thread CPU time, so the load of other threads does not count): the
-//! string plucked as hard as a note can pluck it (velocity 1, the mod wheel's full depth),
-//! [`TRIAL_SECONDS`] of audio in windows of [`WINDOW_SECONDS`] (about a host block), the
-//! attack's contact included. Its load (seconds of work per second of audio) must stay within
-//! the voice's share, on average and within [`WORST_WINDOW`] times it in the worst window;
-//! if not, the mode count comes down in proportion (the step is `O(N log N)` or `O(N · rows)`,
-//! nearly linear in `N`) with a margin and the trial runs again, at most [`FIT_ATTEMPTS`]
-//! times. The reduction is reported with the bank ([`ModesFitted`]). Off the governor (offline
-//! renders) the string keeps every mode it asks for.
+//! times a trial voice (`engine/cost_trial.rs`: the root key plucked at full strength, the
+//! attack's contact included, in windows of about a host block, in thread CPU time). Its load
+//! (seconds of work per second of audio) must stay within the voice's share, on average and
+//! within [`WORST_WINDOW`] times it in the worst window; if not, the mode count comes down in
+//! proportion (the step is `O(N log N)` or `O(N · rows)`, nearly linear in `N`) with a margin
+//! and the trial runs again, at most [`FIT_ATTEMPTS`] trials. The reduction is reported with
+//! the bank ([`ModesFitted`]), and the last trial's price per step goes with every voice (the
+//! governor's note-on check, `engine/governor.rs`). Off the governor (offline renders) the
+//! string keeps every mode it asks for.
 //!
-//! Worker thread (allocates; a trial takes at most about `FIT_ATTEMPTS · TRIAL_SECONDS` of
-//! audio at the budget's share of real time, a fraction of a second).
+//! Worker thread (allocates; a trial takes at most `TRIAL_CPU_LIMIT · TRIAL_SECONDS` of CPU
+//! time, so a fit at most a second or so).
 
+use super::cost_trial::{time_note, Jobs};
 use super::kinds::ModelKind;
 use super::memory::{FitReason, ModesFitted};
 use super::params::{ParamId, ParamValues};
 use super::voice::{StringVoice, Voice, VoiceModel};
-use crate::clock::thread_cpu_time;
 use crate::error::ParamError;
 use crate::models::string::spec::{
     StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
     StringSpec,
 };
-use crate::models::string::{StiffString, StringConfig, TrianglePluck, ValetteLosses};
+use crate::models::string::{StiffString, StringConfig, ValetteLosses};
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
-
-/// Audio timed by one trial (s): the attack, where the bridge contact is densest.
-pub(crate) const TRIAL_SECONDS: f64 = 0.06;
-
-/// Audio per timed window (s): about a host block of 256 samples at 48 kHz.
-pub(crate) const WINDOW_SECONDS: f64 = 0.005;
 
 /// The worst window may cost this many times the voice's share (the governor's target: no
 /// block above twice real time).
@@ -52,36 +46,31 @@ const FIT_MARGIN: f64 = 0.85;
 /// Fewest modes a fitted string keeps.
 pub(crate) const MIN_FITTED_MODES: usize = 16;
 
-/// A trial's load: seconds of work per second of audio.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct TrialLoad {
-    /// Over the whole trial.
-    pub mean: f64,
-    /// In the costliest window.
-    pub worst: f64,
-}
-
-/// The string voices of a bank of `kind` for the parameters `v` at `sim_rate` (Hz), and the
+/// The string voices of a bank of `kind` for the parameters `v` at `jobs.sim` (Hz), and the
 /// fitted mode count if `share` (the largest load of one voice, seconds per second) made the
 /// worker reduce it. Worker thread.
 pub(super) fn string_voices(
     kind: ModelKind,
     v: &ParamValues,
-    sim_rate: f64,
+    jobs: Jobs,
     voices_n: usize,
     share: Option<f64>,
 ) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
+    let sim_rate = jobs.sim;
     let wanted = v.index_of(ParamId::Modes).max(1);
     let mut modes = wanted;
     let mut config = string_config(kind, v, modes, sim_rate)?;
+    // The measured price of a step of the string as built (`None`: not measured).
+    let mut price = None;
     if let Some(share) = share {
-        let amount = 1.0 + f64::from(v.get(ParamId::ModWheelDepth)).max(0.0);
-        for _ in 0..FIT_ATTEMPTS {
-            let Some(load) = trial_load(&config, v, amount, sim_rate) else {
+        for attempt in 1..=FIT_ATTEMPTS {
+            let mut trial = string_voice(&config)?;
+            let Some(load) = time_note(&mut trial, v, jobs) else {
                 break;
             };
+            price = Some(load.price);
             let scale = (share / load.mean).min(WORST_WINDOW * share / load.worst);
-            if scale >= 1.0 || modes <= MIN_FITTED_MODES {
+            if scale >= 1.0 || modes <= MIN_FITTED_MODES || attempt == FIT_ATTEMPTS {
                 break;
             }
             modes = ((modes as f64 * scale * FIT_MARGIN) as usize).max(MIN_FITTED_MODES);
@@ -90,11 +79,11 @@ pub(super) fn string_voices(
     }
     let mut voices = Vec::with_capacity(voices_n);
     for _ in 0..voices_n {
-        let model = StiffString::new(&config)?;
-        voices.push(Voice::new(VoiceModel::String(Box::new(StringVoice::new(
-            model,
-            ValetteLosses::default(),
-        )))));
+        let mut voice = string_voice(&config)?;
+        if let (Some(price), VoiceModel::String(sv)) = (price, &mut voice.model) {
+            sv.price = price;
+        }
+        voices.push(voice);
     }
     let fitted = (modes < wanted).then_some(ModesFitted {
         wanted: wanted as u32,
@@ -104,40 +93,13 @@ pub(super) fn string_voices(
     Ok((voices, fitted))
 }
 
-/// Times a trial voice of `config` plucked with `amount` times the pluck amplitude: the
-/// load of [`TRIAL_SECONDS`] of audio at `sim_rate`. `None` where the thread clock is missing
-/// or the pluck is refused (then nothing is fitted).
-pub(crate) fn trial_load(
-    config: &StringConfig,
-    v: &ParamValues,
-    amount: f64,
-    sim_rate: f64,
-) -> Option<TrialLoad> {
-    let mut model = StiffString::new(config).ok()?;
-    let length = model.params().length;
-    model
-        .pluck(&TrianglePluck {
-            position: f64::from(v.get(ParamId::PluckPosition)) * length,
-            amplitude: f64::from(v.get(ParamId::PluckAmplitude)) * amount,
-        })
-        .ok()?;
-    let window = ((WINDOW_SECONDS * sim_rate).round() as usize).max(1);
-    let windows = ((TRIAL_SECONDS / WINDOW_SECONDS).round() as usize).max(1);
-    let (mut total, mut worst) = (0.0f64, 0.0f64);
-    for _ in 0..windows {
-        let t0 = thread_cpu_time()?;
-        for _ in 0..window {
-            model.step();
-        }
-        let spent = thread_cpu_time()?.saturating_sub(t0).as_secs_f64();
-        total += spent;
-        worst = worst.max(spent);
-    }
-    let audio = window as f64 / sim_rate;
-    Some(TrialLoad {
-        mean: total / (windows as f64 * audio),
-        worst: worst / audio,
-    })
+/// A silent string voice of `config`. Worker thread.
+fn string_voice(config: &StringConfig) -> Result<Voice, ParamError> {
+    let model = StiffString::new(config)?;
+    Ok(Voice::new(VoiceModel::String(Box::new(StringVoice::new(
+        model,
+        ValetteLosses::default(),
+    )))))
 }
 
 /// The instrument's string for `v` with `modes` modes at `sim_rate`, validated.

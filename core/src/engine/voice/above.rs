@@ -12,7 +12,7 @@ use crate::models::plate::spec::Position;
 use crate::models::plate::BandExtension;
 
 /// The modes of a bank's plate continued past its basis (per bank, read-only).
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct AboveModes {
     /// The plate's modes from the first on (the basis's are its first `N_Φ`).
     pub list: ModeList,

@@ -25,9 +25,9 @@ pub(crate) struct Physics {
     pub bend: f32,
     /// The pitch of every key.
     pub tuning: KeyTuning,
-    /// The most work one step of a new note may take (the CPU governor's cap, in the units of
+    /// The highest price (s per step) a new note's model may have (the CPU governor's cap,
     /// `engine/governor.rs`; infinite while the governor is off or the note fits).
-    pub work_cap: f64,
+    pub price_cap: f64,
 }
 
 /// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend + note)/12) · a4/440`,

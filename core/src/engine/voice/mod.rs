@@ -131,13 +131,12 @@ impl Voice {
         }
     }
 
-    /// The work of one step of the voice's current model, in the CPU governor's units
-    /// (`engine/governor.rs`): a plate tier's stored tensor entries plus its modes, a
-    /// string's `N²`. Audio thread.
-    pub fn work(&self) -> f64 {
+    /// The CPU governor's price of one step of the voice's current model (s;
+    /// `engine/governor.rs`): its plate tier's or its string's. Audio thread.
+    pub fn price(&self) -> f64 {
         match &self.model {
-            VoiceModel::Plate(pv) => pv.work(),
-            VoiceModel::String(sv) => (sv.model.modal_displacement().len() as f64).powi(2),
+            VoiceModel::Plate(pv) => pv.price(),
+            VoiceModel::String(sv) => sv.price,
         }
     }
 

@@ -46,7 +46,7 @@ pub(crate) const MIN_TIER_PSI: usize = 4;
 pub(crate) const HEARD_FRACTION: f64 = 0.45;
 
 /// Where the strike and the pickups sit in the basis's frame.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) enum Frame {
     /// Circular plate in the strike-mirror basis: every mode is `Φ_s(r, 0) cos(n_s θ)`.
     Mirror {
@@ -81,7 +81,7 @@ pub(crate) enum Frame {
 }
 
 /// Per-bank data of a plate model, shared read-only by the voices of a bank.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub(crate) struct PlateData {
     /// `λ_s²` of every mode of the bank's basis, increasing: `ω_s = λ_s² √(D/ρh) / a²`.
     pub lambda2: Vec<f64>,
@@ -98,9 +98,9 @@ pub(crate) struct PlateData {
     pub poisson: f64,
     /// The tiers `(N_Φ, N_Ψ)`, largest first; voices hold one model per tier.
     pub tiers: Vec<(usize, usize)>,
-    /// Work of one step of each tier, in the governor's units (stored tensor entries plus
-    /// `N_Φ`; see `engine/governor.rs`), same order as `tiers`.
-    pub tier_work: Vec<f64>,
+    /// The CPU governor's price of one step of each tier (s; measured on the worker under the
+    /// governor, else the prior estimate; see `engine/governor.rs`), same order as `tiers`.
+    pub tier_price: Vec<f64>,
     /// Band limit (Hz): a note keeps the modes up to it.
     pub band_hz: f64,
     /// The plate's modes continued past the basis, for the band above ([`above`]).
@@ -148,6 +148,9 @@ pub(crate) struct PlateVoice {
     /// Whether the CPU governor put the current note on a smaller tier than its band asks
     /// (audio thread; read and cleared by the engine after the note-on).
     pub governed: bool,
+    /// The tier every note takes in the worker's cost trial (`engine/cost_trial.rs`), whatever
+    /// its band asks; `None` in play (worker thread only).
+    pub trial_tier: Option<usize>,
     pub data: Arc<PlateData>,
     /// `ω_s` (rad/s) and `c_s` (1/s) of every mode of the basis for the current note.
     omega: Vec<f64>,
@@ -204,6 +207,7 @@ impl PlateVoice {
             models,
             tier: 0,
             governed: false,
+            trial_tier: None,
             data,
             omega: vec![0.0; nf],
             damping: vec![0.0; nf],
@@ -228,9 +232,9 @@ impl PlateVoice {
         }
     }
 
-    /// The governor's work units of one step of the tier in use.
-    pub fn work(&self) -> f64 {
-        self.data.tier_work[self.tier]
+    /// The governor's price of one step of the tier in use (s).
+    pub fn price(&self) -> f64 {
+        self.data.tier_price[self.tier]
     }
 
     /// The model of the tier in use.
@@ -252,7 +256,8 @@ impl PlateVoice {
 
     /// Prepares a fresh note: the smallest tier holding every mode under the band limit (the
     /// largest when the budget stops first; for the θ = 1 scheme at most the largest tier it
-    /// integrates stably; at most the work `p.work_cap` when the CPU governor is on), that
+    /// integrates stably; at most the price `p.price_cap` when the CPU governor is on; exactly
+    /// [`Self::trial_tier`] in the worker's cost trial), that
     /// model at rest, and the strike frame at the current strike angle. Audio thread, O(N_Φ),
     /// no allocation.
     pub fn begin(&mut self, p: &Physics, key: u8) {
@@ -276,13 +281,16 @@ impl PlateVoice {
                 self.tier += 1;
             }
         }
-        // The CPU governor's cap on the step's work (infinite unless it is on): the band
+        // The CPU governor's cap on the step's price (infinite unless it is on): the band
         // comes down a tier at a time (in-plane modes in proportion) until the note fits.
         let natural = self.tier;
-        while self.data.tier_work[self.tier] > p.work_cap && self.tier + 1 < tiers.len() {
+        while self.data.tier_price[self.tier] > p.price_cap && self.tier + 1 < tiers.len() {
             self.tier += 1;
         }
         self.governed = self.tier != natural;
+        if let Some(t) = self.trial_tier {
+            self.tier = t.min(tiers.len() - 1);
+        }
         let angle = p.values.get(ParamId::StrikeAngle) as f64;
         self.angle = angle;
         self.own_strike = None;

@@ -5,6 +5,7 @@
 
 use super::hand::{HAND_STRING_POSITION, HAND_T60};
 use super::mapping::{pitch_ratio, release_sigma, Physics};
+use crate::engine::governor::PRIOR_SECONDS_PER_UNIT;
 use crate::engine::params::ParamId;
 use crate::models::plate::hand_damping_for_t60;
 use crate::models::string::params::Stiffness;
@@ -22,6 +23,9 @@ pub(crate) struct StringVoice {
     hand_c_max: f64,
     /// The hand pressure applied to the model (0 to 1).
     pressure: f64,
+    /// The CPU governor's price of one step (s): measured by the worker's cost trial under
+    /// the governor, else the prior estimate (`engine/governor.rs`). Set on the worker.
+    pub price: f64,
 }
 
 impl StringVoice {
@@ -29,6 +33,7 @@ impl StringVoice {
     /// thread).
     pub fn new(mut model: StiffString, losses: ValetteLosses) -> Self {
         let p = model.params().clone();
+        let modes = model.modal_displacement().len();
         let x = HAND_STRING_POSITION * p.length;
         let hand_c_max = match model.set_hand(x, 0.0) {
             Ok(()) => {
@@ -47,6 +52,7 @@ impl StringVoice {
                 0.0
             },
             pressure: 0.0,
+            price: PRIOR_SECONDS_PER_UNIT * (modes * modes) as f64,
         }
     }
 

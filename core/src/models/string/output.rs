@@ -158,7 +158,7 @@ impl ResolvedOutput {
                     Quantity::Displacement => v.q,
                     Quantity::Velocity => v.dq,
                 };
-                let s: f64 = shape.iter().zip(coords).map(|(a, b)| a * b).sum();
+                let s = crate::models::dot(shape, coords);
                 match quantity {
                     Quantity::Displacement => s,
                     Quantity::Velocity => s / v.h,
