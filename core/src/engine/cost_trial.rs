@@ -147,10 +147,10 @@ pub(crate) fn time_note(voice: &mut Voice, v: &ParamValues, jobs: Jobs) -> Optio
     })
 }
 
-/// Prices every tier of the plate `voice` (of a bank for `v`, run as `jobs` says) by trials, smallest first, up
-/// to the first tier beyond [`BEYOND_SHARE`] times `share` (seconds of work per second of
-/// audio); larger tiers are extrapolated in proportion to their prior prices. `None` for a
-/// string voice or where nothing could be timed. Worker thread.
+/// Prices every tier of the plate `voice` (of a bank for `v`, run as `jobs` says) by trials,
+/// smallest first, up to the first tier beyond [`BEYOND_SHARE`] times `share` (seconds of work
+/// per second of audio); larger tiers are extrapolated in proportion to their prior prices.
+/// `None` for a string voice or where nothing could be timed. Worker thread.
 pub(crate) fn plate_prices(
     voice: &mut Voice,
     v: &ParamValues,

@@ -329,7 +329,7 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
         VoiceModel::String(sv) => sv.price,
     };
     let mut shed = 0;
-    loop {
+    let room = loop {
         let others: f64 = b
             .voices
             .iter()
@@ -339,7 +339,7 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
             .sum();
         let room = budget - others;
         if room >= cost.attack_load(cheapest, rate) {
-            return (room.min(share) / cost.attack_load(1.0, rate), shed);
+            break room;
         }
         match quietest(&mut b.voices, slot) {
             Some(v) => {
@@ -347,9 +347,10 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
                 shed += 1;
             }
             // Nothing left to end: the note takes its cheapest model.
-            None => return (room.min(share) / cost.attack_load(1.0, rate), shed),
+            None => break room,
         }
-    }
+    };
+    (room.min(share) / cost.attack_load(1.0, rate), shed)
 }
 
 /// The quietest sounding voice not already fading (released voices first), other than

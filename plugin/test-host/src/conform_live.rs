@@ -22,7 +22,7 @@ use std::time::Instant;
 use crate::conform::Runner;
 use crate::conform_params::clap_value;
 use crate::conform_render::{set_values, Rng, Session};
-use crate::host::{activate_started, new_realtime_instance, process_stereo, TestHost};
+use crate::host::{activate_started, new_realtime_instance, process_stereo, Started, TestHost};
 
 /// Bound of the 99th percentile of `activate()`'s wall time (s).
 const ACTIVATE_P99: f64 = 0.020;
@@ -83,16 +83,7 @@ pub(crate) fn activate(s: &Session, seed: u64, count: usize, run: &mut Runner) {
 
 /// An offline instance of a small gong (24 modes, 4 in-plane: fast to build) with
 /// `polyphony` voices, activated at [`RATE`] with blocks of [`BLOCK`] and processing.
-fn small_gong(
-    s: &Session,
-    polyphony: &str,
-) -> Result<
-    (
-        PluginInstance<TestHost>,
-        StartedPluginAudioProcessor<TestHost>,
-    ),
-    String,
-> {
+fn small_gong(s: &Session, polyphony: &str) -> Result<Started, String> {
     let mut inst = s.instance()?;
     let mut values = s.defaults();
     for (name, text) in [

@@ -51,7 +51,7 @@ use std::f64::consts::PI;
 use std::path::PathBuf;
 
 use crate::conform_render::{load_state, Session};
-use crate::host::{activate_started, process_stereo, TestHost};
+use crate::host::{activate_started, process_stereo, Started};
 use crate::path_arg;
 
 /// Host rate of the renders (Hz).
@@ -168,16 +168,7 @@ fn bend_value(raw: u16) -> f64 {
 
 /// A fresh instance of `s` with `blob` loaded, activated at [`RATE`] for blocks of 1 to
 /// [`BLOCK`] frames and processing (the `expression` cases' set-up).
-pub(crate) fn started(
-    s: &Session,
-    blob: &[u8],
-) -> Result<
-    (
-        PluginInstance<TestHost>,
-        StartedPluginAudioProcessor<TestHost>,
-    ),
-    String,
-> {
+pub(crate) fn started(s: &Session, blob: &[u8]) -> Result<Started, String> {
     let mut inst = s.instance()?;
     load_state(&mut inst, blob)?;
     activate_started(inst, RATE, BLOCK as u32)

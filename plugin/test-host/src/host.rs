@@ -155,19 +155,20 @@ pub(crate) struct Param {
     pub stepped: bool,
 }
 
+/// An activated instance and its audio processor, started (the set-up of the `expression`
+/// and live `conform` cases). Main thread.
+pub(crate) type Started = (
+    PluginInstance<TestHost>,
+    StartedPluginAudioProcessor<TestHost>,
+);
+
 /// Activates `inst` at `rate` for blocks of 1 to `max_frames` frames and starts processing
 /// (the set-up of the `expression` and live `conform` cases). Main thread.
 pub(crate) fn activate_started(
     mut inst: PluginInstance<TestHost>,
     rate: f64,
     max_frames: u32,
-) -> Result<
-    (
-        PluginInstance<TestHost>,
-        StartedPluginAudioProcessor<TestHost>,
-    ),
-    String,
-> {
+) -> Result<Started, String> {
     let config = PluginAudioConfiguration {
         sample_rate: rate,
         min_frames_count: 1,
