@@ -154,6 +154,25 @@ fn a_reactivation_keeps_the_bank_at_the_same_rate_and_rebuilds_at_a_new_one() {
     assert!(!e.is_building_first());
 }
 
+/// A host that writes a new set right after an activation which kept the bank (as the soak's
+/// bursts do) gets that set built. The worker had taken the parameters it read when it saw the
+/// new generation as built, so a set written before its next poll (4 ms) was never built:
+/// CI's soak waited 30 s for it. With that bug this test fails unless the worker happens to
+/// poll within the few microseconds between the activation and the write.
+#[test]
+fn a_set_written_right_after_a_kept_bank_activation_is_built() {
+    let (mut e, h) = small_gong();
+    e.activate(48_000.0, BLOCK).unwrap();
+    let first = e.bank_id();
+    e.activate_realtime(48_000.0, BLOCK).unwrap();
+    assert_eq!(e.bank_id(), first, "the bank is kept");
+    h.params().set(ParamId::Modes, 30.0).unwrap();
+    wait_while(&mut e, "bank of the new set", |e| e.bank_id() == first);
+    assert!(h.last_error().is_none());
+    assert_sounds(&mut e, "the new set");
+    assert_eq!(most_modes(&e), 30);
+}
+
 #[test]
 fn a_refused_set_at_a_realtime_activation_falls_back_and_says_so() {
     // A string of 1 km: outside the string's length range, written around the table's

@@ -174,6 +174,7 @@ impl Engine {
                 last_good,
                 preview: realtime && first_build && self.bank.is_none(),
                 governed: self.governor.on,
+                kept: (!first_build).then(|| wanted.rebuild_key()),
             };
         }
         self.host_rate = host_rate;

@@ -148,6 +148,7 @@ impl Engine {
                 last_good: None,
                 preview: false,
                 governed: false,
+                kept: None,
             })),
             generation: 0,
             worker: None,

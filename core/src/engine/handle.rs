@@ -82,6 +82,11 @@ pub(crate) struct BuildRequest {
     /// The CPU governor is on: string banks are fitted to one voice's share of the budget
     /// (`governor::voice_share`, `string_bank`).
     pub governed: bool,
+    /// Rebuild key of the bank the engine kept (`Some` when `first_build` is false): what the
+    /// worker compares the parameters with from then on. Not the parameters the worker reads
+    /// when it sees the generation: those may already have moved on (a host writing a new
+    /// set right after an activation), and taking them as built would never build them.
+    pub kept: Option<ParamValues>,
 }
 
 /// GUI / controller side of an [`Engine`](super::Engine): send commands, read telemetry,
@@ -235,13 +240,16 @@ fn run(mut s: WorkerSetup, stop: &AtomicBool) {
                 governed: request.governed,
             };
             pending = None;
-            let wanted = s.params.snapshot();
-            s.built_key = wanted.rebuild_key();
             if request.first_build {
+                let wanted = s.params.snapshot();
+                s.built_key = wanted.rebuild_key();
                 if request.preview {
                     preview(&mut s, &current, &wanted, stop);
                 }
                 first_build(&mut s, &current, wanted, request.last_good, stop);
+            } else if let Some(kept) = request.kept {
+                // Parameters changed since the activation are built by the next polls.
+                s.built_key = kept;
             }
         } else if request.active {
             let v = s.params.snapshot();
