@@ -75,33 +75,75 @@ fn free_rows(nu: f64, n: u32, x: f64, j: f64, dj: f64, i: f64, di: f64) -> (f64,
     (pj, pi, qj, qi)
 }
 
-/// All roots `λ` of the characteristic equation of order `n` in `(lo, hi)`, increasing, to
-/// full double precision (bisection to a bracket of relative width 2⁻⁵² after a sign-change
-/// scan with step 0.05; consecutive roots of one order are at least about 2.5 apart, so the
-/// scan cannot step over a pair). The scan starts at `max(1, 0.5 n)`: every elastic root is
+/// Step of the sign-change scan of the characteristic equation (consecutive roots of one order
+/// are at least about 2.5 apart, so the scan cannot step over a pair).
+const SCAN_STEP: f64 = 0.05;
+
+/// A resumable scan for the roots `λ` of the characteristic equation of order `n`, increasing,
+/// to full double precision (bisection to a bracket of relative width 2⁻⁵² after a sign-change
+/// scan with step [`SCAN_STEP`]). The scan starts at `max(1, 0.5 n)`: every elastic root is
 /// above it (the lowest, free (2,0), is λ ≈ 2.3; roots of order n exceed about 0.99 n), and
 /// the free plate's rigid-body roots at λ = 0 are thereby excluded.
-pub fn roots(edge: CircularEdge, nu: f64, n: u32, hi: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let lo = (0.5 * n as f64).max(1.0);
-    if hi <= lo {
-        return out;
-    }
-    let step = 0.05;
-    let mut a = lo;
-    let mut fa = characteristic(edge, nu, n, a).0;
-    while a < hi {
-        let b = (a + step).min(hi);
-        let fb = characteristic(edge, nu, n, b).0;
-        if fa == 0.0 {
-            out.push(a);
-        } else if fa.signum() != fb.signum() && fb != 0.0 {
-            out.push(bisect(edge, nu, n, a, b, fa));
+///
+/// The grid `lo + k · step` (accumulated step by step) is the same however far each call
+/// scans, so the roots found below any `λ` and their values do not depend on the calls before:
+/// a scan can be kept and continued (`modes.rs` keeps them for the process). Worker thread.
+#[derive(Debug, Clone)]
+pub struct RootScan {
+    edge: CircularEdge,
+    nu: f64,
+    n: u32,
+    /// The scan's next grid point and the characteristic there.
+    a: f64,
+    fa: f64,
+    /// The roots found so far, increasing.
+    roots: Vec<f64>,
+}
+
+impl RootScan {
+    /// A scan of order `n` that has not started.
+    pub fn new(edge: CircularEdge, nu: f64, n: u32) -> Self {
+        let lo = (0.5 * n as f64).max(1.0);
+        Self {
+            edge,
+            nu,
+            n,
+            a: lo,
+            fa: characteristic(edge, nu, n, lo).0,
+            roots: Vec::new(),
         }
-        a = b;
-        fa = fb;
     }
-    out
+
+    /// Scans on until the grid passes `hi`: every root below `hi` is then in [`Self::roots`]
+    /// (and perhaps one just above it).
+    pub fn scan_to(&mut self, hi: f64) {
+        let (edge, nu, n) = (self.edge, self.nu, self.n);
+        while self.a < hi {
+            let b = self.a + SCAN_STEP;
+            let fb = characteristic(edge, nu, n, b).0;
+            if self.fa == 0.0 {
+                self.roots.push(self.a);
+            } else if self.fa.signum() != fb.signum() && fb != 0.0 {
+                self.roots.push(bisect(edge, nu, n, self.a, b, self.fa));
+            }
+            self.a = b;
+            self.fa = fb;
+        }
+    }
+
+    /// The roots found so far, increasing.
+    pub fn roots(&self) -> &[f64] {
+        &self.roots
+    }
+}
+
+/// All roots `λ` of the characteristic equation of order `n` below `hi`, increasing (a
+/// [`RootScan`] to `hi`). Worker thread; allocates.
+pub fn roots(edge: CircularEdge, nu: f64, n: u32, hi: f64) -> Vec<f64> {
+    let mut scan = RootScan::new(edge, nu, n);
+    scan.scan_to(hi);
+    scan.roots.retain(|&r| r < hi);
+    scan.roots
 }
 
 /// Bisection on a sign-changing bracket `[a, b]` down to adjacent floating-point numbers.
