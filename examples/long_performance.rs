@@ -11,7 +11,7 @@
 
 use assert_no_alloc::{assert_no_alloc, AllocDisabler};
 use clap::Parser;
-use noether::engine::{ModelKind, ParamId, Preset};
+use noether::engine::{ParamId, Preset};
 use noether_testkit::performance::{after_performance, after_storm, Performance};
 
 #[global_allocator]
@@ -76,7 +76,7 @@ fn main() {
             Preset::factory_named(stem).unwrap_or_else(|| panic!("no factory preset named {stem}"));
         let values = preset.values().expect("factory preset");
         let key = values.get(ParamId::RootKey) as u8;
-        let is_plate = ModelKind::from_params(&values).is_plate();
+        let is_plate = values.model().is_plate();
         let schemes: Vec<Option<f32>> = if args.scheme.is_empty() || !is_plate {
             vec![None]
         } else {

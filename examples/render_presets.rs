@@ -34,9 +34,7 @@
 //! Exit status: 0 when every preset rendered, 1 when one failed (the others are still
 //! rendered), 2 on a bad command line.
 
-use noether::engine::{
-    Engine, EngineHandle, Event, EventKind, ModelKind, ParamId, Preset, SharedParams,
-};
+use noether::engine::{Engine, EngineHandle, Event, EventKind, ParamId, Preset, SharedParams};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -154,7 +152,7 @@ fn wait_for_bank(
 ) -> Result<usize, String> {
     let start = Instant::now();
     let v = params.snapshot();
-    let (want_model, want_poly) = (ModelKind::from_params(&v), v.index_of(ParamId::Polyphony));
+    let (want_model, want_poly) = (v.model(), v.index_of(ParamId::Polyphony));
     let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
     let first_id = engine.bank_id();
     let mut seen = 0u64;

@@ -9,70 +9,7 @@
 //! quantity ("30 deg", "0.5 rad", "2 m"), and plain numbers, which it takes in the parameter's
 //! [`typing_unit`] (the engine's unit, degrees for angles). Any thread; allocates the string.
 
-use noether_core::engine::ParamId;
-
-/// How a parameter's value is shown.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Quantity {
-    /// A length in m, shown in µm, mm, cm or m.
-    Length,
-    /// Young's modulus in Pa, shown in GPa.
-    Modulus,
-    /// An angle in rad, shown in degrees.
-    Angle,
-    /// A fraction 0..1, shown in %.
-    Percent,
-    /// A frequency in Hz, shown in Hz or kHz.
-    Frequency,
-    /// A time in s, shown in ms or s.
-    Time,
-    /// A linear density in kg/m, shown in g/m.
-    LinearDensity,
-    /// A MIDI key, shown as a note name.
-    Key,
-    /// A count with its singular and plural noun ("1 voice", "4 voices").
-    Count(&'static str, &'static str),
-    /// The worker threads: 0 reads "all cores".
-    Threads,
-    /// A budget in its unit (the CPU budget in cores, the memory cap in MB): 0 reads "auto"
-    /// (the engine's share of the machine's).
-    Auto(&'static str),
-    /// A plain number with a fixed unit text (possibly empty).
-    Plain(&'static str),
-}
-
-fn quantity(id: ParamId) -> Quantity {
-    use ParamId::*;
-    match id {
-        Size | Thickness | PluckAmplitude => Quantity::Length,
-        YoungsModulus => Quantity::Modulus,
-        StrikeAngle | PickupLeftAngle | PickupRightAngle => Quantity::Angle,
-        StrikeRadius | PickupLeftPos | PickupRightPos | PluckPosition | ModWheelDepth
-        | BridgePosition | MalletHardness | BossRadius => Quantity::Percent,
-        SimRate | BandLimit | TuningA4 | LowCut => Quantity::Frequency,
-        StrikeDuration | ReleaseT60 => Quantity::Time,
-        LinearDensity => Quantity::LinearDensity,
-        RootKey => Quantity::Key,
-        Polyphony => Quantity::Count("voice", "voices"),
-        Threads => Quantity::Threads,
-        CpuBudget => Quantity::Auto("cores"),
-        MemoryCap => Quantity::Auto("MB"),
-        Density => Quantity::Plain("kg/m³"),
-        DampingScale | Closure => Quantity::Plain("×"),
-        DampingC0 => Quantity::Plain("1/s"),
-        StrikeForce | Tension => Quantity::Plain("N"),
-        BridgeCurvature => Quantity::Plain("1/m"),
-        ContactStiffness => Quantity::Plain("N/m^α"),
-        Gain => Quantity::Plain("dB"),
-        KeyLevel => Quantity::Plain("dB/oct"),
-        MalletMass => Quantity::Plain("kg"),
-        MalletSpeed => Quantity::Plain("m/s"),
-        PitchBendRange => Quantity::Plain("st"),
-        DampingA => Quantity::Plain("s^(b−1)"),
-        Dome | Boss => Quantity::Plain("× thickness"),
-        _ => Quantity::Plain(""),
-    }
-}
+use noether_core::engine::{ParamId, Shown};
 
 /// `v` with four significant digits: fixed notation from 0.01 to 99 999, scientific outside
 /// (a relative rounding of at most 5e-4, inside the 0.1 % the round-trip tests allow).
@@ -168,8 +105,8 @@ fn as_displayed(a: f32) -> f32 {
 /// The display text of `value` (plain, engine units) of parameter `id`.
 pub fn format_value(id: ParamId, value: f32) -> String {
     let shown = as_displayed(value.abs());
-    match quantity(id) {
-        Quantity::Length => {
+    match id.info().shown {
+        Shown::Length => {
             let a = shown;
             if a == 0.0 {
                 "0 mm".to_string()
@@ -183,22 +120,22 @@ pub fn format_value(id: ParamId, value: f32) -> String {
                 with_unit(value, "m")
             }
         }
-        Quantity::Modulus => with_unit(value * 1e-9, "GPa"),
-        Quantity::Angle => with_unit(value.to_degrees(), "°"),
-        Quantity::Percent => with_unit(value * 100.0, "%"),
-        Quantity::Frequency if shown >= 1e3 => with_unit(value * 1e-3, "kHz"),
-        Quantity::Frequency => with_unit(value, "Hz"),
-        Quantity::Time if shown < 1.0 => with_unit(value * 1e3, "ms"),
-        Quantity::Time => with_unit(value, "s"),
-        Quantity::LinearDensity => with_unit(value * 1e3, "g/m"),
-        Quantity::Key => note_name(value.round() as i32),
-        Quantity::Count(one, many) => plural(value.round().max(0.0) as usize, one, many),
-        Quantity::Threads if value < 0.5 => "all cores".to_string(),
-        Quantity::Threads => plural(value.round() as usize, "thread", "threads"),
-        Quantity::Auto(_) if value <= 0.0 => "auto".to_string(),
-        Quantity::Auto(unit) => with_unit(value, unit),
-        Quantity::Plain("dB") => format!("{value:+.2} dB"),
-        Quantity::Plain(unit) => with_unit(value, unit),
+        Shown::Modulus => with_unit(value * 1e-9, "GPa"),
+        Shown::Angle => with_unit(value.to_degrees(), "°"),
+        Shown::Percent => with_unit(value * 100.0, "%"),
+        Shown::Frequency if shown >= 1e3 => with_unit(value * 1e-3, "kHz"),
+        Shown::Frequency => with_unit(value, "Hz"),
+        Shown::Time if shown < 1.0 => with_unit(value * 1e3, "ms"),
+        Shown::Time => with_unit(value, "s"),
+        Shown::LinearDensity => with_unit(value * 1e3, "g/m"),
+        Shown::Key => note_name(value.round() as i32),
+        Shown::Count(one, many) => plural(value.round().max(0.0) as usize, one, many),
+        Shown::Threads if value < 0.5 => "all cores".to_string(),
+        Shown::Threads => plural(value.round() as usize, "thread", "threads"),
+        Shown::Auto(_) if value <= 0.0 => "auto".to_string(),
+        Shown::Auto(unit) => with_unit(value, unit),
+        Shown::Plain("dB") => format!("{value:+.2} dB"),
+        Shown::Plain(unit) => with_unit(value, unit),
     }
 }
 
@@ -207,19 +144,15 @@ pub fn format_value(id: ParamId, value: f32) -> String {
 /// store), except angles, read in degrees (a player never types radians). Empty: the number
 /// is taken as it is.
 pub fn typing_unit(id: ParamId) -> &'static str {
-    match quantity(id) {
-        Quantity::Length => "m",
-        Quantity::Modulus => "Pa",
-        Quantity::Angle => "°",
-        Quantity::Frequency => "Hz",
-        Quantity::Time => "s",
-        Quantity::LinearDensity => "kg/m",
-        Quantity::Plain(u) => u,
-        Quantity::Percent
-        | Quantity::Key
-        | Quantity::Count(..)
-        | Quantity::Threads
-        | Quantity::Auto(_) => "",
+    match id.info().shown {
+        Shown::Length => "m",
+        Shown::Modulus => "Pa",
+        Shown::Angle => "°",
+        Shown::Frequency => "Hz",
+        Shown::Time => "s",
+        Shown::LinearDensity => "kg/m",
+        Shown::Plain(u) => u,
+        Shown::Percent | Shown::Key | Shown::Count(..) | Shown::Threads | Shown::Auto(_) => "",
     }
 }
 
@@ -253,17 +186,17 @@ const UNITS: [(&str, f64); 24] = [
 ];
 
 /// Which units belong to which quantity (a typed unit of another quantity is refused).
-fn unit_fits(q: Quantity, unit: &str) -> bool {
+fn unit_fits(q: Shown, unit: &str) -> bool {
     match q {
-        Quantity::Length => matches!(unit, "µm" | "um" | "mm" | "cm" | "m"),
-        Quantity::Modulus => matches!(unit, "GPa" | "MPa" | "Pa"),
-        Quantity::Angle => matches!(unit, "°" | "deg" | "rad"),
-        Quantity::Percent => unit == "%",
-        Quantity::Frequency => matches!(unit, "kHz" | "Hz"),
-        Quantity::Time => matches!(unit, "ms" | "s"),
-        Quantity::LinearDensity => matches!(unit, "g/m" | "kg/m"),
-        Quantity::Key | Quantity::Count(..) | Quantity::Threads | Quantity::Auto(_) => false,
-        Quantity::Plain(_) => false,
+        Shown::Length => matches!(unit, "µm" | "um" | "mm" | "cm" | "m"),
+        Shown::Modulus => matches!(unit, "GPa" | "MPa" | "Pa"),
+        Shown::Angle => matches!(unit, "°" | "deg" | "rad"),
+        Shown::Percent => unit == "%",
+        Shown::Frequency => matches!(unit, "kHz" | "Hz"),
+        Shown::Time => matches!(unit, "ms" | "s"),
+        Shown::LinearDensity => matches!(unit, "g/m" | "kg/m"),
+        Shown::Key | Shown::Count(..) | Shown::Threads | Shown::Auto(_) => false,
+        Shown::Plain(_) => false,
     }
 }
 
@@ -271,20 +204,20 @@ fn unit_fits(q: Quantity, unit: &str) -> bool {
 /// of the same quantity, or a plain number in [`typing_unit`]. Returns the plain value in
 /// engine units (not clamped: nice-plug clamps to the range).
 pub fn parse_value(id: ParamId, text: &str) -> Option<f32> {
-    let q = quantity(id);
+    let q = id.info().shown;
     match q {
-        Quantity::Key => return parse_note(text).map(|k| k as f32),
-        Quantity::Threads if text.trim().starts_with("all") => return Some(0.0),
-        Quantity::Count(..) | Quantity::Threads => {
+        Shown::Key => return parse_note(text).map(|k| k as f32),
+        Shown::Threads if text.trim().starts_with("all") => return Some(0.0),
+        Shown::Count(..) | Shown::Threads => {
             let first = text.split_whitespace().next()?;
             return first.parse::<f32>().ok();
         }
-        Quantity::Auto(_) if text.trim().starts_with("auto") => return Some(0.0),
+        Shown::Auto(_) if text.trim().starts_with("auto") => return Some(0.0),
         _ => {}
     }
     // A budget reads as a plain number in its unit.
     let q = match q {
-        Quantity::Auto(unit) => Quantity::Plain(unit),
+        Shown::Auto(unit) => Shown::Plain(unit),
         q => q,
     };
     let t = text.trim().replace('−', "-");
@@ -312,7 +245,7 @@ pub fn parse_value(id: ParamId, text: &str) -> Option<f32> {
         return Some(number as f32);
     }
     // Plain units with a fixed text (N, 1/m, N/m^α, s^(b−1)) may be typed in full or left out.
-    if let Quantity::Plain(u) = q {
+    if let Shown::Plain(u) = q {
         let u = u.replace('−', "-");
         if unit == u || u.starts_with(unit) || (u == "×" && unit == "x") {
             return Some(number as f32);

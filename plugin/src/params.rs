@@ -87,7 +87,7 @@ fn int_slot(info: &ParamInfo) -> IntParam {
     };
     let p = IntParam::new(info.name, info.default as i32, range);
     match info.kind {
-        ParamKind::Enum { names } => p
+        ParamKind::Enum { names, .. } => p
             .with_value_to_string(Arc::new(move |v| {
                 names
                     .get(v.max(0) as usize)
@@ -209,7 +209,7 @@ unsafe impl Params for NoetherParams {
                     Slot::Float(p) => p.as_ptr(),
                     Slot::Int(p) => p.as_ptr(),
                 };
-                (info.key.to_string(), ptr, group_of(info.id).to_string())
+                (info.key.to_string(), ptr, info.group.title().to_string())
             })
             .chain([(BYPASS_KEY.to_string(), self.bypass.as_ptr(), String::new())])
             .collect()
@@ -308,25 +308,6 @@ impl NoetherParams {
             Ok(mut t) => *t = state,
             Err(e) => *e.into_inner() = state,
         }
-    }
-}
-
-/// The editor panel (and host parameter group) a parameter belongs to.
-pub fn group_of(id: ParamId) -> &'static str {
-    use ParamId::*;
-    match id {
-        Model | Size | Thickness | Aspect | Dome | Boss | BossRadius | Material | YoungsModulus
-        | Density | Poisson => "Model and material",
-        DampingScale | DampingA | DampingB | DampingC0 | ReleaseT60 => "Damping and release",
-        StrikeRadius | StrikeAngle | StrikeDuration | StrikeForce | VelocityCurve
-        | PluckPosition | PluckAmplitude | Exciter | MalletHead | MalletMass | MalletHardness
-        | MalletSpeed => "Excitation",
-        PickupLeftPos | PickupLeftAngle | PickupRightPos | PickupRightAngle => "Pickups",
-        Tension | LinearDensity | Inharmonicity | BridgeCurvature | BridgePosition
-        | ContactStiffness | ContactAlpha => "String and bridge",
-        Modes | InPlaneModes | SimRate | Scheme | Polyphony | Closure | BandAbove | CpuBudget
-        | MemoryCap => "Quality",
-        _ => "Tuning and output",
     }
 }
 

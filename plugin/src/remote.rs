@@ -4,12 +4,12 @@
 //! The first section holds the knobs a player reaches for while playing, one page per
 //! instrument family (a gong's strike and mallet, a string's pluck and bridge), eight each, in
 //! the order of musical use; the second gives every host parameter a page, by the editor's
-//! panels ([`group_of`]), in the table's order (nice-plug splits a panel of more than eight
+//! groups (the table's `group` column, [`ParamGroup`]), in the table's order (nice-plug splits a panel of more than eight
 //! into numbered pages). Built on the main thread when the host asks; no state.
 
-use crate::params::{group_of, NoetherParams, Slot};
+use crate::params::{NoetherParams, Slot};
 use nice_plug::prelude::*;
-use noether_core::engine::{ParamId, PARAMS};
+use noether_core::engine::{ParamGroup, ParamId, PARAMS};
 
 /// The playing pages: name and eight parameters each.
 pub const PLAYING_PAGES: [(&str, [ParamId; 8]); 3] = [
@@ -67,16 +67,9 @@ pub fn define(params: &NoetherParams, context: &mut impl RemoteControlsContext) 
         }
     });
     context.add_section("All parameters", |section| {
-        let mut groups: Vec<&str> = Vec::new();
-        for info in PARAMS {
-            let g = group_of(info.id);
-            if !groups.contains(&g) {
-                groups.push(g);
-            }
-        }
-        for g in groups {
-            section.add_page(g, |page| {
-                for info in PARAMS.iter().filter(|i| group_of(i.id) == g) {
+        for g in ParamGroup::ALL {
+            section.add_page(g.title(), |page| {
+                for info in PARAMS.iter().filter(|i| i.group == g) {
                     add(page, info.id);
                 }
             });

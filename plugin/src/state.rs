@@ -170,7 +170,7 @@ fn number_of(info: &ParamInfo, v: &ParamValue) -> (Option<f64>, bool) {
         }
         (ParamValue::String(s), true) => {
             let by_name = match info.kind {
-                ParamKind::Enum { names } => names
+                ParamKind::Enum { names, .. } => names
                     .iter()
                     .position(|n| n.eq_ignore_ascii_case(s.trim()))
                     .or_else(|| {

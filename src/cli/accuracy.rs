@@ -5,7 +5,7 @@
 //! [`noether::render::accuracy`] (stated in docs/ACCURACY.md).
 
 use clap::{Args, ValueEnum};
-use noether::engine::{ModelKind, ParamId, Preset};
+use noether::engine::{ParamId, Preset};
 use noether::plot::{write_png, Mark, Panel, Scale, Series};
 use noether::render::accuracy::{study, AccuracyStudy, Variant};
 use noether::render::preset_accuracy::{preset_study, with_overrides, PresetVariant};
@@ -181,9 +181,7 @@ fn preset_run(a: &AccuracyArgs, stem: &str) -> Result<AccuracyStudy, Error> {
         .ok_or_else(|| ParamError::new("--preset", format!("`{stem}`"), names.join(", ")))?;
     let base = with_overrides(&factory, &a.set)?;
     let key = preset_key(a.vary);
-    let plate = base
-        .values()
-        .map(|v| ModelKind::from_params(&v).is_plate())?;
+    let plate = base.values().map(|v| v.model().is_plate())?;
     if !plate && matches!(a.vary, Vary::Psi | Vary::Scheme) {
         return Err(ParamError::new(
             "--vary",

@@ -4,8 +4,8 @@
 
 use super::files::OutputArgs;
 use clap::Args;
+use noether::engine::ParamId;
 use noether::engine::{load_scala, KeyTuning};
-use noether::engine::{ModelKind, ParamId};
 use noether::render::midi::load_midi;
 use noether::render::play::{
     notes_timeline, parse_note, play, root_key, NoteSpec, PlaySettings, Timeline,
@@ -178,7 +178,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         // The band the notes simulate: up to 1.25x their highest mode (log axis); to Nyquist
         // when a plate's band above the simulation may sound (closure and band above on).
         let above = found.preset.values().is_ok_and(|v| {
-            ModelKind::from_params(&v).is_plate()
+            v.model().is_plate()
                 && v.get(ParamId::Closure) > 0.0
                 && v.index_of(ParamId::BandAbove) == 1
         });

@@ -97,7 +97,7 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
         BANK_TIMEOUT,
     )?;
     let v = params.snapshot();
-    let kind = crate::engine::ModelKind::from_params(&v);
+    let kind = v.model();
     let key = params.get(ParamId::RootKey) as u8;
     let total = (seconds * PRESET_HOST_RATE).round() as usize;
     let (mut l, mut r) = (vec![0.0f32; PRESET_BLOCK], vec![0.0f32; PRESET_BLOCK]);
@@ -146,7 +146,7 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
 /// string, the mallet's speed with the mallet exciter, else the strike force.
 pub fn excitation_level(preset: &Preset) -> Result<ParamId, ParamError> {
     let v = preset.values()?;
-    Ok(if !crate::engine::ModelKind::from_params(&v).is_plate() {
+    Ok(if !v.model().is_plate() {
         ParamId::PluckAmplitude
     } else if v.index_of(ParamId::Exciter) == 1 {
         ParamId::MalletSpeed

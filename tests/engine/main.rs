@@ -21,6 +21,7 @@ mod engine_threads;
 mod extreme_levels;
 mod governor;
 mod long_performance;
+mod param_meta;
 mod per_note;
 mod pitch_from_sound;
 mod preset_levels;

@@ -101,7 +101,7 @@ impl Bank {
         share: Option<f64>,
     ) -> Result<Bank, ParamError> {
         crate::error::check_positive("host_rate", host_rate)?;
-        let kind = ModelKind::from_params(v);
+        let kind = v.model();
         let voices_n = v.index_of(ParamId::Polyphony).max(1);
         let voices;
         let fitted;
@@ -198,7 +198,7 @@ impl Bank {
     /// cold cache. `None` for strings (they build in milliseconds) and plates already that
     /// small. Any thread.
     pub fn preview_of(v: &ParamValues) -> Option<ParamValues> {
-        if !ModelKind::from_params(v).is_plate() || v.index_of(ParamId::Modes) <= PREVIEW_MODES {
+        if !v.model().is_plate() || v.index_of(ParamId::Modes) <= PREVIEW_MODES {
             return None;
         }
         let mut p = *v;
@@ -211,7 +211,7 @@ impl Bank {
     /// The simulation rate (Hz) a bank of the parameters `v` runs at: a plate's from its band
     /// limit and scheme ([`plate_sim_rate`]), a string's the `sim_rate` parameter. Any thread.
     pub fn sim_rate_of(v: &ParamValues) -> f64 {
-        if ModelKind::from_params(v).is_plate() {
+        if v.model().is_plate() {
             plate_sim_rate(
                 v.get(ParamId::BandLimit) as f64,
                 v.get(ParamId::SimRate) as f64,

@@ -1,7 +1,5 @@
 //! The instrument models and plate materials selectable by parameter.
 
-use super::params::{ParamId, ParamValues};
-
 /// The model a voice bank plays ([`ParamId::Model`]). Plain `Copy` data, any thread.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ModelKind {
@@ -33,25 +31,27 @@ impl ModelKind {
         Self::ALL.get(i).copied().unwrap_or(ModelKind::Gong)
     }
 
-    /// The model selected in `v`.
-    pub fn from_params(v: &ParamValues) -> Self {
-        Self::from_index(v.index_of(ParamId::Model))
-    }
-
     /// Whether this is a plate (von Kármán) model.
     pub fn is_plate(self) -> bool {
         matches!(self, Self::Gong | Self::Cymbal | Self::RectPlate)
     }
 
-    /// Stable name used in presets (`gong`, `cymbal`, `rect-plate`, `sitar`, `tanpura`).
+    /// Whether this is a circular plate (gong, cymbal).
+    pub fn is_circular(self) -> bool {
+        matches!(self, Self::Gong | Self::Cymbal)
+    }
+
+    /// Whether this is a string model (sitar, tanpura).
+    pub fn is_string(self) -> bool {
+        !self.is_plate()
+    }
+
+    /// Stable names used in presets, in parameter index order.
+    pub const KEYS: [&'static str; 5] = ["gong", "cymbal", "rect-plate", "sitar", "tanpura"];
+
+    /// Stable name used in presets ([`Self::KEYS`]).
     pub fn key(self) -> &'static str {
-        match self {
-            Self::Gong => "gong",
-            Self::Cymbal => "cymbal",
-            Self::RectPlate => "rect-plate",
-            Self::Sitar => "sitar",
-            Self::Tanpura => "tanpura",
-        }
+        Self::KEYS[self as usize]
     }
 }
 
@@ -91,19 +91,4 @@ impl Material {
         density: 2700.0,
         poisson: 0.33,
     };
-
-    /// The material selected in `v`: a preset, or the custom E, ρ, ν parameters.
-    pub fn from_params(v: &ParamValues) -> Self {
-        match v.index_of(ParamId::Material) {
-            0 => Self::STEEL,
-            1 => Self::BRONZE,
-            2 => Self::BRASS,
-            3 => Self::ALUMINIUM,
-            _ => Material {
-                youngs_modulus: v.get(ParamId::YoungsModulus) as f64,
-                density: v.get(ParamId::Density) as f64,
-                poisson: v.get(ParamId::Poisson) as f64,
-            },
-        }
-    }
 }

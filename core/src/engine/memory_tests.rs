@@ -42,7 +42,7 @@ fn the_prediction_bounds_the_built_tensors() {
     let held = (bank.tensor_bytes + cache.heap_bytes()) as u64;
     let key = BasisKey::new(
         crate::models::plate::spec::PlateShape::CircularFree,
-        crate::engine::Material::from_params(&v).poisson,
+        v.material().poisson,
         1.0,
         300,
         30,

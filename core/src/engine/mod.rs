@@ -128,6 +128,9 @@ mod memory_tests;
 mod mix;
 mod notes;
 pub mod output;
+pub mod param_meta;
+#[cfg(test)]
+mod param_meta_tests;
 pub mod params;
 mod plate_bank;
 mod pool;
@@ -148,9 +151,11 @@ pub use kinds::{Material, ModelKind};
 pub use memory::{FitReason, ModesFitted};
 pub use mix::SILENCE_RATIO;
 pub use output::{OutputStage, CEILING, LOOKAHEAD};
+pub use param_meta::{ParamGroup, Reads, Shown};
 pub use params::{
     ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, EXCITER_NAMES, MALLET_HEAD_NAMES,
-    MATERIAL_NAMES, MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_NAMES,
+    MATERIAL_NAMES, MODEL_KEYS, MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_KEYS,
+    SCHEME_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;

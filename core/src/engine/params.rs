@@ -12,8 +12,11 @@
 //! refuses out-of-range or non-finite values with a [`ParamError`] naming the parameter, the
 //! value and the range: the host layer clamps and reports, the engine never clamps silently.
 
+use super::kinds::{Material, ModelKind};
+use super::param_meta::{ParamGroup, Reads, Shown};
 use super::tuning::SharedTuning;
 use crate::error::ParamError;
+use crate::models::plate::PlateScheme;
 use crate::models::ranges as r;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};
 
@@ -31,6 +34,8 @@ pub enum ParamKind {
     Enum {
         /// Display names, in index order.
         names: &'static [&'static str],
+        /// Preset and state names (stable, never renamed), in index order.
+        keys: &'static [&'static str],
     },
 }
 
@@ -56,6 +61,12 @@ pub struct ParamInfo {
     /// Whether a change makes the worker rebuild the voice bank (new modal basis, grid,
     /// rate or voice count). `false`: applied on the audio thread without a rebuild.
     pub rebuild: bool,
+    /// The instruments that read it (the others ignore it).
+    pub reads: Reads,
+    /// The group it belongs to (host groups, remote-control pages).
+    pub group: ParamGroup,
+    /// How its value is shown and typed.
+    pub shown: Shown,
     /// One-line description, including which models read it.
     pub help: &'static str,
 }
@@ -68,6 +79,9 @@ pub const MODEL_NAMES: &[&str] = &[
     "sitar",
     "tanpura",
 ];
+
+/// Preset names of [`ParamId::Model`] values, in index order ([`ModelKind::key`](super::ModelKind::key)).
+pub const MODEL_KEYS: &[&str] = &ModelKind::KEYS;
 
 /// Names of the two values of a switch parameter (`limiter`).
 pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
@@ -98,9 +112,18 @@ pub const SCHEME_NAMES: &[&str] = &[
     "SAV (explicit, energy-conserving)",
 ];
 
+/// Preset names of [`ParamId::Scheme`] values, in index order: the schemes' own names
+/// ([`PlateScheme::name`], in the order of [`PlateScheme::ALL`]).
+pub const SCHEME_KEYS: &[&str] = &[
+    PlateScheme::ALL[0].name(),
+    PlateScheme::ALL[1].name(),
+    PlateScheme::ALL[2].name(),
+    PlateScheme::ALL[3].name(),
+];
+
 macro_rules! params {
     ($( $id:ident, $key:literal, $name:literal, $unit:literal, $min:expr, $max:expr, $def:expr,
-        $kind:expr, $rebuild:expr, $help:literal; )*) => {
+        $kind:expr, $rebuild:expr, $group:ident, $reads:ident, $shown:expr, $help:literal; )*) => {
         /// Identifier of an engine parameter; `id as usize` indexes [`PARAMS`].
         ///
         /// Plain `Copy` data used on every thread. New parameters are appended at the end, so
@@ -115,7 +138,9 @@ macro_rules! params {
         }
 
         /// The parameter table, one row per [`ParamId`], in index order.
-        pub const PARAMS: &[ParamInfo] = &[
+        pub const PARAMS: &[ParamInfo] = {
+            use Shown::*;
+            &[
             $( ParamInfo {
                 id: ParamId::$id,
                 key: $key,
@@ -126,9 +151,12 @@ macro_rules! params {
                 default: $def,
                 kind: $kind,
                 rebuild: $rebuild,
+                group: ParamGroup::$group,
+                reads: Reads::$reads,
+                shown: $shown,
                 help: $help,
             }, )*
-        ];
+        ]};
 
         impl ParamId {
             /// Every parameter, in index order.
@@ -142,121 +170,121 @@ const LOG: ParamKind = ParamKind::Float { log: true };
 const INT: ParamKind = ParamKind::Int;
 
 params! {
-    Model, "model", "Model", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MODEL_NAMES }, true,
+    Model, "model", "Model", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MODEL_NAMES, keys: MODEL_KEYS }, true, ModelAndMaterial, All, Plain(""),
         "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura.";
-    Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false,
+    Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false, ModelAndMaterial, All, Length,
         "Plates: radius (circular) or the side lx (rectangle), a rescale; strings: length, which rebuilds the grid.";
-    Thickness, "thickness", "Thickness", "m", r::PLATE_THICKNESS.play_min as f32, r::PLATE_THICKNESS.play_max as f32, 1.0e-3, LOG, false,
+    Thickness, "thickness", "Thickness", "m", r::PLATE_THICKNESS.play_min as f32, r::PLATE_THICKNESS.play_max as f32, 1.0e-3, LOG, false, ModelAndMaterial, Plates, Length,
         "Plate thickness h (plates only); pitch f is proportional to h / a^2.";
-    Aspect, "aspect", "Aspect ratio", "", r::PLATE_ASPECT.play_min as f32, r::PLATE_ASPECT.play_max as f32, 1.5, F, true,
+    Aspect, "aspect", "Aspect ratio", "", r::PLATE_ASPECT.play_min as f32, r::PLATE_ASPECT.play_max as f32, 1.5, F, true, ModelAndMaterial, RectPlate, Plain(""),
         "Rectangular plate: ly / lx (new modal basis).";
-    Material, "material", "Material", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MATERIAL_NAMES }, true,
+    Material, "material", "Material", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MATERIAL_NAMES, keys: MATERIAL_NAMES }, true, ModelAndMaterial, Plates, Plain(""),
         "Plate material preset; 'custom' uses Young's modulus, density and Poisson ratio below.";
-    YoungsModulus, "youngs_modulus", "Young's modulus", "Pa", r::YOUNGS_MODULUS.play_min as f32, r::YOUNGS_MODULUS.play_max as f32, 2.0e11, LOG, false,
+    YoungsModulus, "youngs_modulus", "Young's modulus", "Pa", r::YOUNGS_MODULUS.play_min as f32, r::YOUNGS_MODULUS.play_max as f32, 2.0e11, LOG, false, ModelAndMaterial, CustomMaterial, Modulus,
         "E of the custom material (plates).";
-    Density, "density", "Density", "kg/m^3", r::DENSITY.play_min as f32, r::DENSITY.play_max as f32, 7860.0, LOG, false,
+    Density, "density", "Density", "kg/m^3", r::DENSITY.play_min as f32, r::DENSITY.play_max as f32, 7860.0, LOG, false, ModelAndMaterial, CustomMaterial, Plain("kg/m³"),
         "rho of the custom material (plates).";
-    Poisson, "poisson", "Poisson ratio", "", r::POISSON.play_min as f32, r::POISSON.play_max as f32, 0.3, F, true,
+    Poisson, "poisson", "Poisson ratio", "", r::POISSON.play_min as f32, r::POISSON.play_max as f32, 0.3, F, true, ModelAndMaterial, CustomMaterial, Plain(""),
         "nu of the custom material (plates; the free-edge basis depends on it).";
-    DampingScale, "damping_scale", "Damping", "", 0.0, 20.0, 1.0, F, false,
+    DampingScale, "damping_scale", "Damping", "", 0.0, 20.0, 1.0, F, false, DampingAndRelease, All, Plain("×"),
         "Multiplies every modal damping coefficient (0: lossless). Plates: the power law below; strings: Issanchou/Valette losses.";
-    DampingA, "damping_a", "Damping a", "s^(b-1)", r::DAMPING_A.play_min as f32, r::DAMPING_A.play_max as f32, 0.005, F, false,
+    DampingA, "damping_a", "Damping a", "s^(b-1)", r::DAMPING_A.play_min as f32, r::DAMPING_A.play_max as f32, 0.005, F, false, DampingAndRelease, Plates, Plain("s^(b−1)"),
         "Plate damping law c_s = a omega_s^b + c0: coefficient a.";
-    DampingB, "damping_b", "Damping b", "", r::DAMPING_B.play_min as f32, r::DAMPING_B.play_max as f32, 0.6, F, false,
+    DampingB, "damping_b", "Damping b", "", r::DAMPING_B.play_min as f32, r::DAMPING_B.play_max as f32, 0.6, F, false, DampingAndRelease, Plates, Plain(""),
         "Plate damping law exponent b.";
-    DampingC0, "damping_c0", "Damping c0", "1/s", r::DAMPING_C0.play_min as f32, r::DAMPING_C0.play_max as f32, 0.0, F, false,
+    DampingC0, "damping_c0", "Damping c0", "1/s", r::DAMPING_C0.play_min as f32, r::DAMPING_C0.play_max as f32, 0.0, F, false, DampingAndRelease, Plates, Plain("1/s"),
         "Plate damping law constant c0.";
-    StrikeRadius, "strike_radius", "Strike position", "", 0.0, 0.99, 0.92, F, true,
+    StrikeRadius, "strike_radius", "Strike position", "", 0.0, 0.99, 0.92, F, true, Excitation, Plates, Percent,
         "Plate strike point: fraction of the radius (circular) or of the half-diagonal from the centre (rectangle).";
-    StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, false,
+    StrikeAngle, "strike_angle", "Strike angle", "rad", 0.0, 6.2831855, 0.0, F, false, Excitation, Plates, Angle,
         "Plate strike point: polar angle, taken by each new note (a circular plate rotates its pickups instead: no rebuild).";
-    StrikeDuration, "strike_duration", "Strike duration", "s", r::STRIKE_DURATION.play_min as f32, r::STRIKE_DURATION.play_max as f32, 0.01, LOG, false,
+    StrikeDuration, "strike_duration", "Strike duration", "s", r::STRIKE_DURATION.play_min as f32, r::STRIKE_DURATION.play_max as f32, 0.01, LOG, false, Excitation, Pulse, Time,
         "Raised-cosine strike length (mallet hardness: shorter is harder); plates.";
-    StrikeForce, "strike_force", "Strike force", "N", r::STRIKE_FORCE.play_min as f32, r::STRIKE_FORCE.play_max as f32, 40.0, LOG, false,
+    StrikeForce, "strike_force", "Strike force", "N", r::STRIKE_FORCE.play_min as f32, r::STRIKE_FORCE.play_max as f32, 40.0, LOG, false, Excitation, Pulse, Plain("N"),
         "Peak strike force at velocity 1 (plates).";
-    VelocityCurve, "velocity_curve", "Velocity curve", "", 0.0, 4.0, 1.0, F, false,
+    VelocityCurve, "velocity_curve", "Velocity curve", "", 0.0, 4.0, 1.0, F, false, Excitation, All, Plain(""),
         "Force (or pluck amplitude) = value at velocity 1 times velocity^curve.";
-    PickupLeftPos, "pickup_left_pos", "Left pickup position", "", 0.01, 0.99, 0.896, F, true,
+    PickupLeftPos, "pickup_left_pos", "Left pickup position", "", 0.01, 0.99, 0.896, F, true, Pickups, All, Percent,
         "Left output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
-    PickupLeftAngle, "pickup_left_angle", "Left pickup angle", "rad", 0.0, 6.2831855, 0.519, F, true,
+    PickupLeftAngle, "pickup_left_angle", "Left pickup angle", "rad", 0.0, 6.2831855, 0.519, F, true, Pickups, Plates, Angle,
         "Left output point: polar angle (plates).";
-    PickupRightPos, "pickup_right_pos", "Right pickup position", "", 0.01, 0.99, 0.7, F, true,
+    PickupRightPos, "pickup_right_pos", "Right pickup position", "", 0.01, 0.99, 0.7, F, true, Pickups, All, Percent,
         "Right output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
-    PickupRightAngle, "pickup_right_angle", "Right pickup angle", "rad", 0.0, 6.2831855, 2.5, F, true,
+    PickupRightAngle, "pickup_right_angle", "Right pickup angle", "rad", 0.0, 6.2831855, 2.5, F, true, Pickups, Plates, Angle,
         "Right output point: polar angle (plates).";
-    Tension, "tension", "Tension", "N", r::STRING_TENSION.play_min as f32, r::STRING_TENSION.play_max as f32, 180.5, LOG, false,
+    Tension, "tension", "Tension", "N", r::STRING_TENSION.play_min as f32, r::STRING_TENSION.play_max as f32, 180.5, LOG, false, StringAndBridge, Strings, Plain("N"),
         "String tension T at the root key (strings).";
-    LinearDensity, "linear_density", "Linear density", "kg/m", r::STRING_LINEAR_DENSITY.play_min as f32, r::STRING_LINEAR_DENSITY.play_max as f32, 1.17e-3, LOG, true,
+    LinearDensity, "linear_density", "Linear density", "kg/m", r::STRING_LINEAR_DENSITY.play_min as f32, r::STRING_LINEAR_DENSITY.play_max as f32, 1.17e-3, LOG, true, StringAndBridge, Strings, LinearDensity,
         "String linear mass density mu (strings).";
-    Inharmonicity, "inharmonicity", "Inharmonicity B", "", r::STRING_INHARMONICITY.play_min as f32, r::STRING_INHARMONICITY.play_max as f32, 2.0e-5, F, false,
+    Inharmonicity, "inharmonicity", "Inharmonicity B", "", r::STRING_INHARMONICITY.play_min as f32, r::STRING_INHARMONICITY.play_max as f32, 2.0e-5, F, false, StringAndBridge, Strings, Plain(""),
         "String inharmonicity B = pi^2 EI / (T L^2) at the root key (strings; 0: ideal string).";
-    BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", r::BRIDGE_CURVATURE.play_min as f32, r::BRIDGE_CURVATURE.play_max as f32, 1.0, F, true,
+    BridgeCurvature, "bridge_curvature", "Bridge curvature", "1/m", r::BRIDGE_CURVATURE.play_min as f32, r::BRIDGE_CURVATURE.play_max as f32, 1.0, F, true, StringAndBridge, Sitar, Plain("1/m"),
         "Sitar bridge g(x) = -curvature x^2 near x = 0 (the lecture's a).";
-    BridgePosition, "bridge_fraction", "Bridge position", "", 1.0e-3, 0.2, 6.0e-3, LOG, true,
+    BridgePosition, "bridge_fraction", "Bridge position", "", 1.0e-3, 0.2, 6.0e-3, LOG, true, StringAndBridge, Strings, Percent,
         "Tanpura: distance of the point bridge from the end; sitar: length of the curved bridge; both as a fraction of the string's length.";
-    ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", r::CONTACT_STIFFNESS.play_min as f32, r::CONTACT_STIFFNESS.play_max as f32, 1.0e13, LOG, true,
+    ContactStiffness, "contact_k", "Contact stiffness K", "N/m^(alpha+1)", r::CONTACT_STIFFNESS.play_min as f32, r::CONTACT_STIFFNESS.play_max as f32, 1.0e13, LOG, true, StringAndBridge, Strings, Plain("N/m^α"),
         "Penalty contact law K [eta]_+^alpha (strings).";
-    ContactAlpha, "contact_alpha", "Contact exponent alpha", "", r::CONTACT_EXPONENT.play_min as f32, r::CONTACT_EXPONENT.play_max as f32, 1.5, F, true,
+    ContactAlpha, "contact_alpha", "Contact exponent alpha", "", r::CONTACT_EXPONENT.play_min as f32, r::CONTACT_EXPONENT.play_max as f32, 1.5, F, true, StringAndBridge, Strings, Plain(""),
         "Penalty contact exponent (strings).";
-    PluckPosition, "pluck_position", "Pluck position", "", 0.02, 0.98, 0.25, F, false,
+    PluckPosition, "pluck_position", "Pluck position", "", 0.02, 0.98, 0.25, F, false, Excitation, Strings, Percent,
         "Triangular pluck apex as a fraction of the length (strings).";
-    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false,
+    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false, Excitation, Strings, Length,
         "Triangular pluck apex displacement at velocity 1 (strings).";
-    Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 510.0, INT, true,
+    Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 510.0, INT, true, Quality, All, Plain(""),
         "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1.";
-    InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true,
+    InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true, Quality, Plates, Plain(""),
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
-    SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 8000.0, LOG, true,
+    SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 8000.0, LOG, true, Quality, All, Frequency,
         "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz): for them this is a floor, to oversample.";
-    Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES }, true,
+    Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES, keys: SCHEME_KEYS }, true, Quality, Plates, Plain(""),
         "Quality: plate time scheme.";
-    Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true,
+    Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true, Quality, All, Count("voice", "voices"),
         "Voices in the pool (a rebuild allocates them); the quietest or oldest is stolen.";
-    Gain, "gain", "Output gain", "dB", -60.0, 60.0, 0.0, F, false,
+    Gain, "gain", "Output gain", "dB", -60.0, 60.0, 0.0, F, false, TuningAndOutput, All, Plain("dB"),
         "Output gain applied after the pickups' normalisation.";
-    TuningA4, "tuning_a4", "A4 reference", "Hz", 400.0, 480.0, 440.0, F, false,
+    TuningA4, "tuning_a4", "A4 reference", "Hz", 400.0, 480.0, 440.0, F, false, TuningAndOutput, All, Frequency,
         "Tuning reference: all notes scale by tuning_a4 / 440.";
-    RootKey, "root_key", "Root key", "", 0.0, 127.0, 60.0, INT, false,
+    RootKey, "root_key", "Root key", "", 0.0, 127.0, 60.0, INT, false, TuningAndOutput, All, Key,
         "MIDI key at which the model has its nominal parameters; other keys scale thickness (plates) or tension (strings).";
-    PitchBendRange, "pitch_bend_range", "Pitch bend range", "semitones", 0.0, 24.0, 2.0, F, false,
+    PitchBendRange, "pitch_bend_range", "Pitch bend range", "semitones", 0.0, 24.0, 2.0, F, false, TuningAndOutput, All, Plain("st"),
         "Full pitch-bend deflection in semitones.";
-    ModWheelDepth, "mod_wheel_depth", "Mod wheel depth", "", 0.0, 1.0, 0.5, F, false,
+    ModWheelDepth, "mod_wheel_depth", "Mod wheel depth", "", 0.0, 1.0, 0.5, F, false, TuningAndOutput, All, Percent,
         "Mod wheel scales the strike force (plates) or pluck amplitude (strings) by 1 + depth * (2 wheel - 1).";
-    ReleaseT60, "release_t60", "Release T60", "s", 0.02, 60.0, 2.0, LOG, false,
+    ReleaseT60, "release_t60", "Release T60", "s", 0.02, 60.0, 2.0, LOG, false, DampingAndRelease, All, Time,
         "After note-off (and sustain release) every mode decays at least this fast (60 dB in this time).";
-    BandLimit, "band_limit", "Band limit", "Hz", r::PLATE_BAND_LIMIT.play_min as f32, r::PLATE_BAND_LIMIT.play_max as f32, 6000.0, LOG, true,
+    BandLimit, "band_limit", "Band limit", "Hz", r::PLATE_BAND_LIMIT.play_min as f32, r::PLATE_BAND_LIMIT.play_max as f32, 6000.0, LOG, true, Quality, Plates, Frequency,
         "Quality (plates): each note keeps the transverse modes up to this frequency after its pitch scaling (at most 'modes', the CPU budget); the simulation rate follows from it.";
-    Threads, "threads", "Threads", "", 0.0, 16.0, 0.0, INT, false,
+    Threads, "threads", "Threads", "", 0.0, 16.0, 0.0, INT, false, Quality, All, Threads,
         "Threads sharing the voices' work (0: every core of the machine; 1: the audio thread alone).";
-    LowCut, "low_cut", "Low cut", "Hz", 10.0, 1000.0, 20.0, LOG, false,
+    LowCut, "low_cut", "Low cut", "Hz", 10.0, 1000.0, 20.0, LOG, false, TuningAndOutput, All, Frequency,
         "Output high-pass (second-order Butterworth) removing sub-audio motion; 10 Hz leaves nearly everything.";
-    Limiter, "limiter", "Limiter", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES }, false,
+    Limiter, "limiter", "Limiter", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, TuningAndOutput, All, Plain(""),
         "Output limiter at -0.3 dBFS (1.5 ms look-ahead, transparent below it). Off: a hard clip at 0 dBFS remains.";
-    KeyLevel, "key_level", "Level key tracking", "dB/oct", -12.0, 12.0, 0.0, F, false,
+    KeyLevel, "key_level", "Level key tracking", "dB/oct", -12.0, 12.0, 0.0, F, false, TuningAndOutput, All, Plain("dB/oct"),
         "Each note's output level changes by this many dB per octave above the root key (below it, the opposite), evening out the models' loudness over the keyboard.";
-    Exciter, "exciter", "Exciter", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: EXCITER_NAMES }, false,
+    Exciter, "exciter", "Exciter", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: EXCITER_NAMES, keys: EXCITER_NAMES }, false, Excitation, Plates, Plain(""),
         "Plates: 'pulse' strikes with the raised-cosine force (velocity scales its peak: the level); 'mallet' throws a mass through a felt at the plate (velocity sets its speed: level and timbre).";
-    MalletMass, "mallet_mass", "Mallet mass", "kg", 0.01, 2.0, 0.2, LOG, false,
+    MalletMass, "mallet_mass", "Mallet mass", "kg", 0.01, 2.0, 0.2, LOG, false, Excitation, CustomMallet, Plain("kg"),
         "Plates, exciter 'mallet': the mallet head's mass M (0.2 kg: a gong beater).";
-    MalletHardness, "mallet_hardness", "Mallet hardness", "", 0.0, 1.0, 0.5, F, false,
+    MalletHardness, "mallet_hardness", "Mallet hardness", "", 0.0, 1.0, 0.5, F, false, Excitation, CustomMallet, Percent,
         "Plates, exciter 'mallet': 0 soft felt (K = 1e6 N/m^alpha, alpha = 2.5) to 1 hard (K = 1e9, alpha = 1.5, Hertz), log K and alpha linear in between.";
-    MalletSpeed, "mallet_speed", "Mallet speed", "m/s", 0.1, 10.0, 2.0, LOG, false,
+    MalletSpeed, "mallet_speed", "Mallet speed", "m/s", 0.1, 10.0, 2.0, LOG, false, Excitation, Mallet, Plain("m/s"),
         "Plates, exciter 'mallet': impact speed at velocity 1; speed = value times velocity^curve (and the mod wheel as for the force).";
-    MalletHead, "mallet_head", "Mallet head", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MALLET_HEAD_NAMES }, false,
+    MalletHead, "mallet_head", "Mallet head", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MALLET_HEAD_NAMES, keys: MALLET_HEAD_NAMES }, false, Excitation, Mallet, Plain(""),
         "Plates, exciter 'mallet': 'custom' uses the mass and hardness above; a factory head (soft felt, hard felt, rubber, wood, metal) brings its own mass, contact law and felt loss (docs/models.md, factory mallets).";
-    Dome, "dome", "Dome rise", "thicknesses", 0.0, 50.0, 0.0, F, false,
+    Dome, "dome", "Dome rise", "thicknesses", 0.0, 50.0, 0.0, F, false, ModelAndMaterial, Plates, Plain("× thickness"),
         "Plates: the rest shape's dome, its rise in plate thicknesses h (0: flat). Circular: a spherical cap w0 = rise (1 - r^2), curvature kappa = a^2/(R h) = 2 rise/h; rectangle: 16 rise x(1-x) y(1-y). Raises the modes with nodal circles and makes the sound soften (pitch rises as it decays); needs in-plane modes, and the conservative-exact scheme integrates it accurately.";
-    Boss, "boss", "Boss height", "thicknesses", 0.0, 50.0, 0.0, F, false,
+    Boss, "boss", "Boss height", "thicknesses", 0.0, 50.0, 0.0, F, false, ModelAndMaterial, CircularPlates, Plain("× thickness"),
         "Circular plates: a raised centre boss (a gong's boss, a cymbal's bell) of this height in plate thicknesses, w0 = height cos^2(pi r / 2b) inside the boss radius b; 0: none. Added to the dome.";
-    BossRadius, "boss_radius", "Boss radius", "", 0.05, 0.6, 0.2, F, true,
+    BossRadius, "boss_radius", "Boss radius", "", 0.05, 0.6, 0.2, F, true, ModelAndMaterial, CircularPlates, Percent,
         "Circular plates: the boss's base radius b as a fraction of the plate's radius (the boss's projection on the modes is rebuilt).";
-    Closure, "closure", "Cascade closure", "", 0.0, 4.0, 0.0, F, false,
+    Closure, "closure", "Cascade closure", "", 0.0, 4.0, 0.0, F, false, Quality, Plates, Plain("×"),
         "Plates: how strongly the top half-octave of simulated modes is damped when a loud strike's cascade piles energy up there, as the modes above the band would carry it away (1: the strength calibrated on the crash cymbal against its resolved model; 0: the plain truncation).";
-    BandAbove, "band_above", "Band above", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES }, false,
+    BandAbove, "band_above", "Band above", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Quality, Plates, Plain(""),
         "Plates: the linear modes of the plate above its simulated band, up to 20 kHz (or 0.45 of the host rate), sounding with exactly the energy the cascade closure absorbs (silent while the closure is off or idle). Off: nothing sounds above the band.";
-    CpuBudget, "cpu_budget", "CPU budget", "cores", 0.0, 64.0, 0.0, F, false,
+    CpuBudget, "cpu_budget", "CPU budget", "cores", 0.0, 64.0, 0.0, F, false, Quality, All, Auto("cores"),
         "Live play (the plugin in a real-time host): the voices' measured work may use this many cores' time (0: 70 % of the machine's). A note that would pass it starts with a narrower band (fewer modes), and when even that does not fit, or blocks overrun, the quietest voice ends; every reduction is counted and shown. Offline renders ignore it.";
-    MemoryCap, "memory_cap", "Memory cap", "MB", 0.0, 262144.0, 0.0, F, true,
+    MemoryCap, "memory_cap", "Memory cap", "MB", 0.0, 262144.0, 0.0, F, true, Quality, All, Auto("MB"),
         "Plates: the most memory one instance's coupling tensors may take, in MB (0: a quarter of the machine's memory, at most 4096 MB). A plate whose tensors would need more is built with fewer modes, a tier at a time (each 1/sqrt(2) of the modes, the in-plane modes in proportion), and the reduction is shown; it is never built at full size first.";
 }
 
@@ -332,6 +360,48 @@ impl ParamValues {
         self.0[id.index()].max(0.0) as usize
     }
 
+    /// The model selected (`model`).
+    pub fn model(&self) -> ModelKind {
+        ModelKind::from_index(self.index_of(ParamId::Model))
+    }
+
+    /// The plate material selected (`material`): a preset, or the custom E, ρ, ν parameters.
+    pub fn material(&self) -> Material {
+        match self.index_of(ParamId::Material) {
+            0 => Material::STEEL,
+            1 => Material::BRONZE,
+            2 => Material::BRASS,
+            3 => Material::ALUMINIUM,
+            _ => Material {
+                youngs_modulus: self.get(ParamId::YoungsModulus) as f64,
+                density: self.get(ParamId::Density) as f64,
+                poisson: self.get(ParamId::Poisson) as f64,
+            },
+        }
+    }
+
+    /// Whether the instrument these values describe reads `id` (the table's `reads` column):
+    /// a parameter it does not read changes nothing in its sound.
+    pub fn reads(&self, id: ParamId) -> bool {
+        let model = self.model();
+        let plate = model.is_plate();
+        let mallet = plate && self.index_of(ParamId::Exciter) == 1;
+        match id.info().reads {
+            Reads::All => true,
+            Reads::Plates => plate,
+            Reads::CircularPlates => model.is_circular(),
+            Reads::RectPlate => model == ModelKind::RectPlate,
+            Reads::Strings => model.is_string(),
+            Reads::Sitar => model == ModelKind::Sitar,
+            Reads::CustomMaterial => {
+                plate && self.index_of(ParamId::Material) + 1 == MATERIAL_NAMES.len()
+            }
+            Reads::Pulse => plate && !mallet,
+            Reads::Mallet => mallet,
+            Reads::CustomMallet => mallet && self.index_of(ParamId::MalletHead) == 0,
+        }
+    }
+
     /// Sets `id` after [`ParamInfo::check`].
     pub fn set(&mut self, id: ParamId, value: f32) -> Result<(), ParamError> {
         self.0[id.index()] = id.info().check(value)?;
@@ -340,11 +410,11 @@ impl ParamValues {
 
     /// The values of the parameters that trigger a rebuild, in table order, with the others
     /// zeroed: two snapshots need the same bank iff their rebuild keys are equal. For the
-    /// string models (`model` ≥ 3) the size (the string's length, which sets the grid) is
+    /// string models the size (the string's length, which sets the grid) is
     /// part of the key.
     pub fn rebuild_key(&self) -> ParamValues {
         let mut k = *self;
-        let string = self.index_of(ParamId::Model) >= 3;
+        let string = self.model().is_string();
         for p in PARAMS {
             if !(p.rebuild || string && p.id == ParamId::Size) {
                 k.0[p.id.index()] = 0.0;
@@ -356,7 +426,7 @@ impl ParamValues {
     /// Copies from `other` every value that is part of [`Self::rebuild_key`] (the model's
     /// structure), keeping this set's playing values (gain, tuning, damping, ...).
     pub fn take_rebuild_values(&mut self, other: &ParamValues) {
-        let string = other.index_of(ParamId::Model) >= 3;
+        let string = other.model().is_string();
         for p in PARAMS {
             if p.rebuild || string && p.id == ParamId::Size {
                 self.0[p.id.index()] = other.0[p.id.index()];
@@ -463,9 +533,10 @@ mod tests {
             assert!(p.min <= p.default && p.default <= p.max, "{}", p.key);
             p.check(p.default).unwrap();
             assert_eq!(ParamId::from_key(p.key), Some(p.id));
-            if let ParamKind::Enum { names } = p.kind {
+            if let ParamKind::Enum { names, keys } = p.kind {
                 assert_eq!(p.min, 0.0);
                 assert_eq!(p.max as usize + 1, names.len(), "{}", p.key);
+                assert_eq!(keys.len(), names.len(), "{}", p.key);
             }
         }
     }

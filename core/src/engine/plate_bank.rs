@@ -10,7 +10,7 @@
 
 use super::cost_trial::{plate_prices, Jobs};
 use super::governor::PRIOR_SECONDS_PER_UNIT;
-use super::kinds::{Material, ModelKind};
+use super::kinds::ModelKind;
 use super::memory::{cap_bytes, fit_tiers, FitReason, ModesFitted};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
@@ -163,7 +163,7 @@ fn above_points(kind: ModelKind, frame: &Frame) -> [Position; 2] {
 /// reach the ceiling at the root key ([`mode_count`], with the plate's [`omega_scale`]).
 /// Worker thread.
 fn above_count(basis: &PlateBasis, v: &ParamValues) -> Result<usize, ParamError> {
-    let m = Material::from_params(v);
+    let m = v.material();
     let scale = omega_scale(
         v.get(ParamId::Size) as f64,
         v.get(ParamId::Thickness) as f64,
@@ -188,7 +188,7 @@ pub(crate) fn plate_voices(
 ) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
     let (sim_rate, above_rate) = (jobs.sim, jobs.above);
     let wanted = v.index_of(ParamId::Modes).max(1);
-    let m = Material::from_params(v);
+    let m = v.material();
     let (shape, symmetry) = match kind {
         ModelKind::RectPlate => (PlateShape::RectSs, Symmetry::Full),
         ModelKind::Cymbal => (PlateShape::CircularClamped, Symmetry::StrikeMirror),
@@ -216,12 +216,10 @@ pub(crate) fn plate_voices(
     let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
     let frame = frame(kind, &basis, v);
     let above = AboveModes::build(&key, above_count(&basis, v)?, above_points(kind, &frame));
-    let scheme = match v.index_of(ParamId::Scheme) {
-        0 => PlateScheme::ConservativeTheta1,
-        1 => PlateScheme::ConservativeExact,
-        2 => PlateScheme::StormerVerletExact,
-        _ => PlateScheme::SavExact,
-    };
+    let scheme = PlateScheme::ALL
+        .get(v.index_of(ParamId::Scheme))
+        .copied()
+        .unwrap_or(PlateScheme::SavExact);
     // One sub-tensor per tier, shared by the voices, in single storage: the values rounded to
     // `f32` once and every layout rebuilt from them, so the voice's discrete energy is that of
     // the rounded tensor and still conserved to `f64` round-off (tests/plates, single storage),

@@ -46,16 +46,8 @@ pub struct Preset {
 /// Preset names of an enumeration parameter's values, in index order (`None` for other
 /// parameters).
 pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
-    match id {
-        ParamId::Model => Some(&["gong", "cymbal", "rect-plate", "sitar", "tanpura"]),
-        ParamId::Material => Some(&["steel", "bronze", "brass", "aluminium", "custom"]),
-        ParamId::Limiter => Some(&["off", "on"]),
-        ParamId::Scheme => Some(&[
-            "conservative",
-            "conservative-exact",
-            "stormer-verlet",
-            "sav",
-        ]),
+    match id.info().kind {
+        ParamKind::Enum { keys, .. } => Some(keys),
         _ => None,
     }
 }

@@ -13,7 +13,7 @@ use crate::format::{format_value, parse_value, typing_unit};
 use crate::params::{NoetherParams, Slot};
 use egui::{Layout, Ui, Vec2};
 use nice_plug::prelude::*;
-use noether_core::engine::{ParamId, ParamKind, MATERIAL_NAMES};
+use noether_core::engine::{ParamId, ParamKind};
 
 /// Width of the label column (points).
 pub const LABEL_W: f32 = 150.0;
@@ -134,48 +134,6 @@ const SECTIONS: [Section; 7] = {
         },
     ]
 };
-
-/// The choices that decide which rows the editor shows (enumeration indices).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Choices {
-    /// `model` (see `MODEL_NAMES`).
-    pub model: usize,
-    /// `material` (the custom material's constants only matter for it).
-    pub material: usize,
-    /// `exciter`: 0 the force pulse, 1 the mallet.
-    pub exciter: usize,
-    /// `mallet_head`: 0 custom, else a factory head.
-    pub head: usize,
-}
-
-/// Whether the instrument the choices `c` describe reads parameter `id`: the model's own
-/// parameters, the custom material's constants, the exciter's (the pulse's duration and
-/// force, or the mallet's head, speed and, for the custom head, its mass and hardness).
-pub fn relevant(id: ParamId, c: Choices) -> bool {
-    use ParamId::*;
-    let (model, material) = (c.model, c.material);
-    let plate = model <= 2;
-    let string = !plate;
-    let mallet = plate && c.exciter == 1;
-    match id {
-        YoungsModulus | Density | Poisson => plate && material + 1 == MATERIAL_NAMES.len(),
-        Thickness | Material | DampingA | DampingB | DampingC0 | StrikeRadius | StrikeAngle
-        | PickupLeftAngle | PickupRightAngle | InPlaneModes | Scheme | BandLimit | Exciter
-        | Closure | BandAbove => plate,
-        StrikeDuration | StrikeForce => plate && c.exciter == 0,
-        MalletHead | MalletSpeed => mallet,
-        // A factory head brings its own mass and law.
-        MalletMass | MalletHardness => mallet && c.head == 0,
-        Aspect => model == 2,
-        // The rest shape: a dome on every plate, the centre boss on the circular ones.
-        Dome => plate,
-        Boss | BossRadius => model <= 1,
-        Tension | LinearDensity | Inharmonicity | BridgePosition | ContactStiffness
-        | ContactAlpha | PluckPosition | PluckAmplitude => string,
-        BridgeCurvature => model == 3,
-        _ => true,
-    }
-}
 
 /// The label of a row: the host's name, with symbols for the long physics names.
 fn short_name(id: ParamId) -> &'static str {
@@ -311,14 +269,9 @@ fn enum_menu(ui: &mut Ui, setter: &ParamSetter, p: &IntParam, names: &[&str], ke
 
 /// Draws the sections relevant to the current model in the width of `ui`.
 pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter) {
-    let model = params.slot(ParamId::Model).value() as usize;
-    let material = params.slot(ParamId::Material).value() as usize;
-    let choices = Choices {
-        model,
-        material,
-        exciter: params.slot(ParamId::Exciter).value() as usize,
-        head: params.slot(ParamId::MalletHead).value() as usize,
-    };
+    // What the instrument reads decides the rows (the table's `reads` column).
+    let values = params.plain_values();
+    let string = values.model().is_string();
     // One slider width for every row: what the panel leaves after the label and value
     // columns (and the collapsing header's indent).
     let indent = ui.spacing().indent;
@@ -327,17 +280,14 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
     ui.spacing_mut().slider_width = slider_w;
     ui.spacing_mut().interact_size.x = VALUE_W;
     for section in &SECTIONS {
-        if section
-            .strings
-            .is_some_and(|strings| strings != (model >= 3))
-        {
+        if section.strings.is_some_and(|strings| strings != string) {
             continue;
         }
         let rows: Vec<ParamId> = section
             .params
             .iter()
             .copied()
-            .filter(|&id| relevant(id, choices))
+            .filter(|&id| values.reads(id))
             .collect();
         if rows.is_empty() {
             continue;
@@ -358,7 +308,7 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
                             },
                         );
                         match (params.slot(id), info.kind) {
-                            (Slot::Int(p), ParamKind::Enum { names }) => {
+                            (Slot::Int(p), ParamKind::Enum { names, .. }) => {
                                 enum_menu(ui, setter, p, names, info.key, slider_w + VALUE_W);
                             }
                             (slot, _) => slider_row(ui, id, slot, setter),
@@ -440,46 +390,10 @@ mod tests {
         assert!((decades - expect).abs() < 0.1, "{decades} vs {expect}");
     }
 
+    /// Every parameter sits in some section (which rows a model shows is the core's
+    /// `param_meta` column, tested there and in tests/engine/param_meta.rs).
     #[test]
-    fn only_the_models_sections() {
-        // A gong (model 0, steel, pulse) shows no bridge, pluck or custom material constants.
-        let gong = Choices::default();
-        assert!(!relevant(ParamId::ContactStiffness, gong));
-        assert!(!relevant(ParamId::PluckPosition, gong));
-        assert!(!relevant(ParamId::YoungsModulus, gong));
-        let custom = Choices {
-            material: MATERIAL_NAMES.len() - 1,
-            ..gong
-        };
-        assert!(relevant(ParamId::YoungsModulus, custom));
-        // A sitar (model 3) shows its bridge and no mallet.
-        let sitar = Choices { model: 3, ..gong };
-        assert!(relevant(ParamId::BridgeCurvature, sitar));
-        assert!(!relevant(ParamId::StrikeDuration, sitar));
-        assert!(!relevant(
-            ParamId::MalletHead,
-            Choices {
-                exciter: 1,
-                ..sitar
-            }
-        ));
-        // The pulse shows its duration and force, the mallet its own rows.
-        assert!(relevant(ParamId::StrikeDuration, gong));
-        assert!(!relevant(ParamId::MalletSpeed, gong));
-        let mallet = Choices { exciter: 1, ..gong };
-        assert!(!relevant(ParamId::StrikeForce, mallet));
-        assert!(relevant(ParamId::MalletSpeed, mallet));
-        assert!(relevant(ParamId::MalletMass, mallet));
-        // A factory head hides the custom mallet's mass and hardness.
-        let wood = Choices { head: 4, ..mallet };
-        assert!(!relevant(ParamId::MalletMass, wood));
-        assert!(!relevant(ParamId::MalletHardness, wood));
-        assert!(relevant(ParamId::MalletHead, wood));
-        // The curved plate: the dome on every plate, the boss on circular plates only.
-        assert!(relevant(ParamId::Dome, gong) && relevant(ParamId::Boss, gong));
-        let rect = Choices { model: 2, ..gong };
-        assert!(relevant(ParamId::Dome, rect) && !relevant(ParamId::BossRadius, rect));
-        assert!(!relevant(ParamId::Dome, sitar) && !relevant(ParamId::Boss, sitar));
+    fn every_parameter_has_a_section() {
         // Every parameter sits in some section.
         for info in noether_core::engine::PARAMS {
             assert!(

@@ -20,7 +20,7 @@ use super::grid::apply_gesture;
 use crate::params::NoetherParams;
 use egui::Ui;
 use nice_plug::prelude::*;
-use noether_core::engine::ParamId;
+use noether_core::engine::{ModelKind, ParamId};
 
 /// How one parameter follows a macro: from `a` at 0 to `b` at 1, logarithmically if `log`.
 #[derive(Debug, Clone, Copy)]
@@ -177,7 +177,7 @@ pub fn macros(string: bool, striker: Striker) -> [(&'static str, &'static str, V
 
 /// Draws the macro sliders in a row, `width` points for each.
 pub fn macro_row(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter, width: f32) {
-    let string = params.slot(ParamId::Model).value() >= 3.0;
+    let string = ModelKind::from_index(params.slot(ParamId::Model).value() as usize).is_string();
     let striker = Striker::from_values(
         params.slot(ParamId::Exciter).value(),
         params.slot(ParamId::MalletHead).value(),

@@ -64,7 +64,7 @@ const FINAL: [ParamId; 7] = [
 /// and for the string models the size (the string's length sets the grid; see
 /// [`ParamValues::rebuild_key`]). The driver automates every other parameter each block.
 pub fn needs_rebuild(p: &ParamInfo, v: &ParamValues) -> bool {
-    p.rebuild || (p.id == ParamId::Size && !ModelKind::from_params(v).is_plate())
+    p.rebuild || (p.id == ParamId::Size && !v.model().is_plate())
 }
 
 /// One intermediate step of a burst: each rebuild parameter outside the final step's set is

@@ -28,7 +28,6 @@ use super::above::{Above, AboveModes};
 use super::hand::hand_radius;
 use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
-use crate::engine::kinds::Material;
 use crate::engine::params::ParamId;
 use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::modal::CouplingTensor;
@@ -245,7 +244,7 @@ impl PlateVoice {
     /// `(ω scale, a, h, ρh, E)` for `key`: `ω_s = λ_s² · scale`.
     fn note_scalars(&self, p: &Physics, key: u8, note: f32) -> (f64, f64, f64, f64, f64) {
         let v = &p.values;
-        let m = Material::from_params(v);
+        let m = v.material();
         let a = v.get(ParamId::Size) as f64;
         let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(p, key, note);
         let nu = self.data.poisson;

@@ -37,8 +37,16 @@ pub enum PlateScheme {
 }
 
 impl PlateScheme {
+    /// Every scheme, in the order of the engine's `scheme` parameter.
+    pub const ALL: [PlateScheme; 4] = [
+        Self::ConservativeTheta1,
+        Self::ConservativeExact,
+        Self::StormerVerletExact,
+        Self::SavExact,
+    ];
+
     /// The scheme's name in scenes, presets and reports.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Self::ConservativeTheta1 => "conservative",
             Self::ConservativeExact => "conservative-exact",
