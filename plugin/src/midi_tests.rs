@@ -328,8 +328,7 @@ fn upper_zone_and_full_buffer() {
     rpn(&mut m, 0, 6, 15, None);
     rpn(&mut m, 15, 6, 3, None);
     // Upper zone: members 13..=15 (0-based 12..=14); the lower zone keeps 1..=10.
-    assert_eq!(m.upper.map(|z| (z.first, z.last)), Some((12, 14)));
-    assert_eq!(m.lower.map(|z| (z.first, z.last)), Some((1, 10)));
+    assert_eq!(m.zones(), [Some((1, 10)), Some((12, 14))]);
     assert_eq!(
         one(&mut m, bend(11, 4096)),
         vec![Event::new(9, EventKind::PitchBend(-0.5))],

@@ -6,16 +6,21 @@
 //! - Time: metrical files follow the tempo map (`Set Tempo` meta events, in any track, applied
 //!   from their tick on; 120 bpm = 500 000 µs per quarter note until the first); SMPTE timecode
 //!   files use `fps × ticks per frame` ticks per second (29.97 fps for drop-frame).
-//! - Events, mapped as the plugin maps a host's MIDI (`plugin/src/midi.rs`): note on with
-//!   velocity v > 0 → note on at v/127 (a note on with velocity 0 is a note off, as in MIDI 1.0);
-//!   note off; pitch bend → [-1, 1) (8192 is the centre); CC 1 (mod wheel) → [0, 1]; CC 64
-//!   (sustain) → pedal down at values ≥ 64; CC 120 → all sound off; CC 123 → all notes off.
-//!   Other events (program changes, aftertouch, other controllers, SysEx, meta) are ignored.
+//! - Events: through the core's MIDI 1.0 and MPE mapping ([`crate::engine::midi`]), the one
+//!   the plugin uses for a host's MIDI: note on with velocity v > 0 → note on at v/127 (a note
+//!   on with velocity 0 is a note off, as in MIDI 1.0); note off; pitch bend → [-1, 1] (8192
+//!   is the centre); CC 1 (mod wheel) → [0, 1]; CC 64 (sustain) → pedal down at values ≥ 64;
+//!   CC 120 → all sound off; CC 123 → all notes off; and MPE: after an MPE Configuration
+//!   Message (RPN 6), member channels' bends tune their own notes (48 semitones until RPN 0
+//!   sets the zone's range), and channel pressure and CC 74 press and brighten them. Other
+//!   events (program changes, polyphonic aftertouch, other controllers, SysEx, meta) are
+//!   ignored.
 //!
 //! Runs on the calling (CLI) thread.
 
 use super::play::{TimedEvent, Timeline};
-use crate::engine::EventKind;
+use crate::engine::midi::{MidiMap, MidiMessage as Message};
+use crate::engine::{Event, EventKind};
 use crate::error::ParamError;
 use midly::{Format, MetaMessage, MidiMessage, Smf, Timing, TrackEventKind};
 use std::path::Path;
@@ -86,6 +91,9 @@ pub fn read_midi(bytes: &[u8]) -> Result<Timeline, ParamError> {
     let mut tempo_us = DEFAULT_TEMPO_US;
     let (mut last_tick, mut now) = (0u64, 0.0f64);
     let mut events = Vec::new();
+    let mut map = MidiMap::default();
+    // The map's output for one message (a member channel's bend retunes up to 128 notes).
+    let mut out: Vec<Event> = Vec::with_capacity(256);
     for (tick, _, kind) in all {
         let dt = (tick - last_tick) as f64;
         now += match seconds_per_tick_fixed {
@@ -97,9 +105,14 @@ pub fn read_midi(bytes: &[u8]) -> Result<Timeline, ParamError> {
             TrackEventKind::Meta(MetaMessage::Tempo(us)) => {
                 tempo_us = f64::from(us.as_int()).max(1.0);
             }
-            TrackEventKind::Midi { message, .. } => {
-                if let Some(kind) = engine_event(message) {
-                    events.push(TimedEvent { time: now, kind });
+            TrackEventKind::Midi { channel, message } => {
+                if let Some(m) = channel_message(channel.as_int(), message) {
+                    out.clear();
+                    map.translate(0, m, &mut out);
+                    events.extend(out.iter().map(|e| TimedEvent {
+                        time: now,
+                        kind: e.kind,
+                    }));
                 }
             }
             _ => {}
@@ -118,23 +131,27 @@ pub fn read_midi(bytes: &[u8]) -> Result<Timeline, ParamError> {
     Ok(Timeline::new(events))
 }
 
-/// The engine event of one MIDI channel message (`None`: no engine meaning).
-fn engine_event(m: MidiMessage) -> Option<EventKind> {
+/// One SMF channel message as the core's MIDI message (`None`: none the mapping reads).
+fn channel_message(channel: u8, m: MidiMessage) -> Option<Message> {
     Some(match m {
-        MidiMessage::NoteOn { key, vel } if vel.as_int() > 0 => EventKind::NoteOn {
+        MidiMessage::NoteOn { key, vel } => Message::NoteOn {
+            channel: Some(channel),
             key: key.as_int(),
             velocity: f32::from(vel.as_int()) / 127.0,
         },
-        MidiMessage::NoteOn { key, .. } | MidiMessage::NoteOff { key, .. } => {
-            EventKind::NoteOff { key: key.as_int() }
-        }
-        MidiMessage::PitchBend { bend } => EventKind::PitchBend(bend.as_f32().clamp(-1.0, 1.0)),
-        MidiMessage::Controller { controller, value } => match controller.as_int() {
-            1 => EventKind::ModWheel(f32::from(value.as_int()) / 127.0),
-            64 => EventKind::Sustain(value.as_int() >= 64),
-            120 => EventKind::AllSoundOff,
-            123 => EventKind::AllNotesOff,
-            _ => return None,
+        MidiMessage::NoteOff { key, .. } => Message::NoteOff { key: key.as_int() },
+        MidiMessage::PitchBend { bend } => Message::PitchBend {
+            channel,
+            value: bend.0.as_int(),
+        },
+        MidiMessage::Controller { controller, value } => Message::ControlChange {
+            channel,
+            cc: controller.as_int(),
+            value: value.as_int(),
+        },
+        MidiMessage::ChannelAftertouch { vel } => Message::ChannelPressure {
+            channel,
+            pressure: f32::from(vel.as_int()) / 127.0,
         },
         _ => return None,
     })

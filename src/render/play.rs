@@ -42,8 +42,9 @@ pub struct TimedEvent {
 /// A performance: engine events in time order, and the time of the last one (s).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Timeline {
-    /// Events sorted by time; at equal times note offs come before note ons (a repeated key
-    /// is released, then struck again), otherwise in the given order.
+    /// Events sorted by time; at equal times note offs come first (a repeated key is released,
+    /// then struck again), the others in the given order (a note's per-note expressions after
+    /// its note on, as MPE and the MIDI mapping send them).
     pub events: Vec<TimedEvent>,
     /// Time of the last event (s): the render goes on for the tail after it.
     pub end: f64,
@@ -52,11 +53,11 @@ pub struct Timeline {
 impl Timeline {
     /// Sorts `events` (stable, see [`Timeline::events`]) and finds the end.
     pub fn new(mut events: Vec<TimedEvent>) -> Timeline {
-        let is_on = |k: &EventKind| matches!(k, EventKind::NoteOn { .. });
+        let is_off = |k: &EventKind| matches!(k, EventKind::NoteOff { .. });
         events.sort_by(|a, b| {
             a.time
                 .total_cmp(&b.time)
-                .then(is_on(&a.kind).cmp(&is_on(&b.kind)))
+                .then(is_off(&b.kind).cmp(&is_off(&a.kind)))
         });
         let end = events.last().map_or(0.0, |e| e.time);
         Timeline { events, end }

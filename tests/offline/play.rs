@@ -343,3 +343,128 @@ fn notes_start_at_their_sample() {
     assert_eq!(p.report.notes.len(), 1);
     assert!((p.report.notes[0].start_s - 0.1).abs() < 1e-12);
 }
+
+/// A channel message on MIDI channel `ch` (0-based).
+fn on_channel(ch: u8, message: MidiMessage) -> TrackEventKind<'static> {
+    TrackEventKind::Midi {
+        channel: u4::new(ch),
+        message,
+    }
+}
+
+/// `noether play --midi` plays MPE (the core's mapping, shared with the plugin): an MPE file
+/// (lower zone of 15 member channels, the members' bend range set to 3 semitones by RPN 0)
+/// sends a full bend up on channel 2 and a full bend down on channel 3, then a G3 on channel 2
+/// (0 to 1.5 s) and a C4 on channel 3 (2 to 3.5 s). Each note sounds at its own channel's
+/// bend: A#3 (G3 + 3) and A3 (C4 - 3), measured from the sound's fundamental on the ideal
+/// sitar string with its bridge out of reach (f₁ = √(T/μ)/2L = 196.4 Hz at G3, as in
+/// tests/engine/pitch_from_sound.rs). Without MPE both bends would be one global bend (the
+/// last, down) over the preset's 2 semitones, both notes 2 semitones down: the two readings
+/// tell the mappings apart by a semitone or more. Tolerance 3e-5 relative (0.05 cent; measured
+/// -6.5e-6 and +1.0e-6 on 2026-11-28: the estimator reads this string to 1e-8 over 2 s in the
+/// engine tests, these 1.2 s windows are shorter and the first note's release still rings).
+/// Seen failing when the timeline put a note's expressions before its note on (the tuning
+/// was lost: 196 Hz, read as 213.8 Hz at the band's edge).
+#[test]
+fn mpe_file_bends_each_note_by_its_channel() {
+    let dir = scratch("mpe");
+    let preset = noether::render::preset_accuracy::with_overrides(
+        &Preset::factory_named("sitar-b0").unwrap(),
+        &[
+            "bridge_curvature=1".into(),
+            "bridge_fraction=0.01".into(),
+            "polyphony=2".into(),
+            "threads=1".into(),
+        ],
+    )
+    .unwrap();
+    let toml = dir.join("ideal-sitar.toml");
+    std::fs::write(&toml, preset.to_toml()).unwrap();
+    let ev = |delta: u32, kind| TrackEvent {
+        delta: u28::new(delta),
+        kind,
+    };
+    let cc = |ch: u8, controller: u8, value: u8| {
+        on_channel(
+            ch,
+            MidiMessage::Controller {
+                controller: u7::new(controller),
+                value: u7::new(value),
+            },
+        )
+    };
+    let bend = |ch: u8, raw: u16| {
+        on_channel(
+            ch,
+            MidiMessage::PitchBend {
+                bend: midly::PitchBend(midly::num::u14::new(raw)),
+            },
+        )
+    };
+    let note = |ch: u8, on: bool, key: u8| {
+        let (key, vel) = (u7::new(key), u7::new(if on { 100 } else { 0 }));
+        on_channel(
+            ch,
+            if on {
+                MidiMessage::NoteOn { key, vel }
+            } else {
+                MidiMessage::NoteOff { key, vel }
+            },
+        )
+    };
+    // 1000 ticks per quarter at the default 120 bpm: 2000 ticks a second.
+    let track = vec![
+        // MPE Configuration Message: RPN 6 on the master channel, 15 member channels.
+        ev(0, cc(0, 101, 0)),
+        ev(0, cc(0, 100, 6)),
+        ev(0, cc(0, 6, 15)),
+        // Members' bend sensitivity: RPN 0 = 3 semitones on a member channel (the whole zone).
+        ev(0, cc(1, 101, 0)),
+        ev(0, cc(1, 100, 0)),
+        ev(0, cc(1, 6, 3)),
+        ev(0, bend(1, 16383)),
+        ev(0, bend(2, 0)),
+        ev(0, note(1, true, 55)),
+        ev(3000, note(1, false, 55)),
+        ev(1000, note(2, true, 60)),
+        ev(3000, note(2, false, 60)),
+        ev(0, TrackEventKind::Meta(MetaMessage::EndOfTrack)),
+    ];
+    let smf = Smf {
+        header: Header::new(Format::SingleTrack, Timing::Metrical(u15::new(1000))),
+        tracks: vec![track],
+    };
+    let mid = dir.join("mpe.mid");
+    smf.save(&mid).unwrap();
+    let wav = dir.join("mpe.wav");
+    let out = noether(&[
+        "play",
+        toml.to_str().unwrap(),
+        "--midi",
+        mid.to_str().unwrap(),
+        "--tail",
+        "0.1",
+        "-q",
+        "-o",
+        wav.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let (rate, channels, s) = read_wav(&wav);
+    assert_eq!(channels, 2);
+    let left: Vec<f64> = s.iter().step_by(2).map(|&x| f64::from(x)).collect();
+    let rate = f64::from(rate);
+    let f1 = (180.5f64 / 1.17e-3).sqrt() / 2.0;
+    for (start, semitones, what) in [(0.2, 3.0, "G3 bent up 3"), (2.2, 2.0, "C4 bent down 3")] {
+        let window = &left[(start * rate) as usize..((start + 1.2) * rate) as usize];
+        let want = f1 * (semitones / 12.0f64).exp2();
+        // A band of ±6 Hz: the first note still rings (its release) 13 Hz above the second.
+        let got = fundamental_near(window, rate, want, 6.0).expect("a pitch");
+        println!("{what}: {got:.5} Hz, want {want:.5} Hz");
+        assert!(
+            (got / want - 1.0).abs() < 3e-5,
+            "{what}: {got} Hz, want {want} Hz"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -125,6 +125,7 @@ mod kinds;
 pub mod memory;
 #[cfg(test)]
 mod memory_tests;
+pub mod midi;
 mod mix;
 mod notes;
 pub mod output;
