@@ -271,4 +271,33 @@ mod tests {
             assert_eq!(macros(true, striker)[0].2[0].id, PluckPosition);
         }
     }
+
+    /// Every macro of every instrument (each model with each exciter and mallet head) moves
+    /// only parameters that instrument reads (the table's `reads` column, which
+    /// tests/engine/param_meta.rs holds to the sound): no macro is silent for an exciter, as
+    /// the Hardness macro was for the mallet when it moved the pulse's duration.
+    #[test]
+    fn every_macro_moves_what_the_instrument_reads() {
+        use noether_core::engine::{ModelKind, ParamValues};
+        for model in ModelKind::ALL {
+            for (exciter, head) in [(0.0, 0.0), (1.0, 0.0), (1.0, 3.0)] {
+                let mut v = ParamValues::defaults();
+                v.set(ParamId::Model, model as usize as f32).unwrap();
+                v.set(ParamId::Exciter, exciter).unwrap();
+                v.set(ParamId::MalletHead, head).unwrap();
+                let striker = Striker::from_values(exciter, head);
+                for (name, _, targets) in macros(model.is_string(), striker) {
+                    for g in targets {
+                        assert!(
+                            v.reads(g.id),
+                            "{name} moves {} on a {} with exciter {exciter}, head {head}, \
+                             which does not read it",
+                            g.id.info().key,
+                            model.key()
+                        );
+                    }
+                }
+            }
+        }
+    }
 }
