@@ -94,7 +94,7 @@ impl Engine {
         let banks: usize = [
             self.bank.as_ref(),
             self.held.as_ref(),
-            self.retiring.as_ref().map(|r| &r.0),
+            self.handover.retiring.as_ref().map(|r| &r.0),
         ]
         .into_iter()
         .flatten()
@@ -139,10 +139,10 @@ impl Engine {
         self.deferred_len = 0;
         self.reset_pending = false;
         // Banks still queued belong to an earlier generation: drop them here (main thread).
-        while self.bank_rx.try_recv().is_ok() {}
-        self.retiring = None;
-        self.pending_drop = [None, None, None];
-        self.overflow = None;
+        while self.handover.bank_rx.try_recv().is_ok() {}
+        self.handover.retiring = None;
+        self.handover.pending_drop = [None, None, None];
+        self.handover.overflow = None;
         let wanted = self.params.snapshot();
         let last_good = self.bank.as_ref().map(|b| b.values);
         // A bank built for another host rate cannot play at this one.
@@ -180,7 +180,7 @@ impl Engine {
         self.host_rate = host_rate;
         self.max_block = max_block;
         self.fade_len = ((FADE * host_rate) as usize).max(1);
-        self.guarded_past += self.output.guarded();
+        self.counts.guarded_past += self.output.guarded();
         self.output = OutputStage::new(host_rate);
         self.values = wanted;
         self.applied = (wanted, self.bend);
@@ -212,7 +212,7 @@ impl Engine {
     /// installs it; returns the build's outcome (see [`Self::activate`]).
     fn wait_for_generation(&mut self) -> Result<Option<ParamError>, ParamError> {
         loop {
-            match self.bank_rx.recv_timeout(POLL_WAIT) {
+            match self.handover.bank_rx.recv_timeout(POLL_WAIT) {
                 Ok(bank) if bank.generation == self.generation => {
                     self.values = bank.values;
                     self.applied = (bank.values, self.bend);
@@ -254,7 +254,7 @@ impl Engine {
         }
         if let Some(mut p) = self.pool.take() {
             p.stop();
-            self.worker_jobs_past += p.worker_jobs();
+            self.counts.worker_jobs_past += p.worker_jobs();
         }
     }
 }

@@ -4,6 +4,8 @@ use super::bank::{Bank, CHUNK};
 use super::events::{Event, EventKind, GuiCommand};
 use super::governor::Governor;
 use super::handle::{BuildRequest, EngineHandle, Worker, WorkerStatus};
+use super::handover_state::Handover;
+use super::meters::{Counts, Meters};
 use super::mix::{run_bank, Sharing, Tally};
 use super::output::OutputStage;
 use super::params::{ParamId, ParamValues, SharedParams};
@@ -41,11 +43,9 @@ pub struct Engine {
     /// The non-rebuild values and bend the sounding voices were last tuned with.
     pub(super) applied: (ParamValues, f32),
     pub(super) bank: Option<Box<Bank>>,
-    pub(super) retiring: Option<(Box<Bank>, usize)>,
-    pub(super) pending_drop: [Option<Box<Bank>>; 3],
-    pub(super) overflow: Option<Box<Bank>>,
-    pub(super) bank_rx: Receiver<Box<Bank>>,
-    pub(super) retire_tx: Sender<Box<Bank>>,
+    /// The banks on their way in (from the worker) and out (fading, parked, back to the
+    /// worker).
+    pub(super) handover: Handover,
     pub(super) bank_tx: Sender<Box<Bank>>,
     pub(super) retire_rx: Receiver<Box<Bank>>,
     pub(super) commands: HeapCons<GuiCommand>,
@@ -67,15 +67,11 @@ pub struct Engine {
     pub(super) held: Option<Box<Bank>>,
     pub(super) deferred: [EventKind; DEFERRED],
     pub(super) deferred_len: usize,
-    pub(super) deferred_lost: u64,
     pub(super) reset_pending: bool,
     /// Longest wait for the workers' jobs per chunk (`None`: the chunk's duration).
     pub(super) job_wait: Option<Duration>,
     /// Threads allowed to share the last chunk's voices (the audio thread included).
     pub(super) threads_used: u8,
-    pub(super) late: u64,
-    /// Jobs run by the workers of pools already stopped.
-    pub(super) worker_jobs_past: u64,
     pub(super) host_rate: f64,
     pub(super) max_block: usize,
     pub(super) bend: f32,
@@ -93,24 +89,14 @@ pub struct Engine {
     pub(super) gain: f32,
     /// Low cut, limiter and full-scale guard at the host rate (rebuilt by `activate`).
     pub(super) output: OutputStage,
-    /// Samples the guards of output stages already replaced (earlier activations) changed.
-    pub(super) guarded_past: u64,
     pub(super) retune_wait: usize,
     pub(super) fade_len: usize,
     pub(super) scratch: [Vec<f32>; 2],
     pub(super) watch: Option<u8>,
-    pub(super) newton_cap_hits: u64,
-    /// Mallet contacts begun since the engine was created.
-    pub(super) mallet_impacts: u64,
-    pub(super) diverged: u64,
-    pub(super) refused: u64,
-    // Telemetry accumulators.
-    pub(super) tele_next: u64,
-    pub(super) peak: [f32; 2],
-    pub(super) sumsq: [f64; 2],
-    pub(super) tele_samples: u64,
-    pub(super) busy: f64,
-    pub(super) cpu_peak: f32,
+    /// What the engine counted since it was created (reported by `readout.rs`).
+    pub(super) counts: Counts,
+    /// The telemetry accumulators between two frames.
+    pub(super) meters: Meters,
     /// The CPU governor (off until [`Engine::set_governor`]).
     pub(super) governor: Governor,
 }
@@ -130,11 +116,7 @@ impl Engine {
             values,
             applied: (values, 0.0),
             bank: None,
-            retiring: None,
-            pending_drop: [None, None, None],
-            overflow: None,
-            bank_rx,
-            retire_tx,
+            handover: Handover::new(bank_rx, retire_tx),
             bank_tx,
             retire_rx,
             commands: cmd_rx,
@@ -157,13 +139,9 @@ impl Engine {
             held: None,
             deferred: [EventKind::AllNotesOff; DEFERRED],
             deferred_len: 0,
-            deferred_lost: 0,
             reset_pending: false,
             job_wait: None,
             threads_used: 1,
-            late: 0,
-            worker_jobs_past: 0,
-            guarded_past: 0,
             host_rate: 48_000.0,
             max_block: 0,
             bend: 0.0,
@@ -180,16 +158,8 @@ impl Engine {
             fade_len: 1,
             scratch: [vec![0.0; CHUNK], vec![0.0; CHUNK]],
             watch: None,
-            newton_cap_hits: 0,
-            mallet_impacts: 0,
-            diverged: 0,
-            refused: 0,
-            tele_next: 0,
-            peak: [0.0; 2],
-            sumsq: [0.0; 2],
-            tele_samples: 0,
-            busy: 0.0,
-            cpu_peak: 0.0,
+            counts: Counts::default(),
+            meters: Meters::default(),
             governor: Governor {
                 cores: Pool::default_workers() as f64 + 1.0,
                 ..Governor::default()
@@ -216,7 +186,7 @@ impl Engine {
             b.resampler.reset();
             b.above.reset();
         }
-        if let Some((old, _)) = self.retiring.take() {
+        if let Some((old, _)) = self.handover.retiring.take() {
             self.retire(old);
         }
         self.bend = 0.0;
@@ -225,7 +195,7 @@ impl Engine {
         self.gain = db_to_gain(self.values.get(ParamId::Gain));
         self.output.reset();
         self.retune_wait = 0;
-        self.tele_next = self.frame;
+        self.meters.next = self.frame;
     }
 
     /// Processes one block without events: `left` and `right` (equal lengths, any length) are
@@ -302,7 +272,7 @@ impl Engine {
         } else if let Some(b) = self.held.as_mut() {
             release = !run_bank(b, share, left, right, &mut t);
         }
-        if let Some((old, done)) = self.retiring.as_mut() {
+        if let Some((old, done)) = self.handover.retiring.as_mut() {
             let [sl, sr] = &mut self.scratch;
             let (sl, sr) = (&mut sl[..len], &mut sr[..len]);
             sl.fill(0.0);
@@ -317,15 +287,15 @@ impl Engine {
             }
             *done += len;
             if *done >= self.fade_len {
-                if let Some((old, _)) = self.retiring.take() {
+                if let Some((old, _)) = self.handover.retiring.take() {
                     self.retire(old);
                 }
             }
         }
-        self.newton_cap_hits += t.hits;
-        self.mallet_impacts += t.impacts;
-        self.diverged += t.diverged;
-        self.late += t.late;
+        self.counts.newton_cap_hits += t.hits;
+        self.counts.mallet_impacts += t.impacts;
+        self.counts.diverged += t.diverged;
+        self.counts.late += t.late;
         if hold {
             self.held = self.bank.take();
         } else if release {
@@ -365,7 +335,7 @@ impl Engine {
     /// bit for bit as on a new instance (`tests/engine/long_performance.rs`). Audio thread,
     /// O(history + look-ahead).
     fn rest_if_silent(&mut self, gain_target: f32) {
-        if self.held.is_some() || self.retiring.is_some() {
+        if self.held.is_some() || self.handover.retiring.is_some() {
             return;
         }
         let Some(b) = self.bank.as_mut() else {

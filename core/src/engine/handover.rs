@@ -6,7 +6,6 @@
 
 use super::audio::Engine;
 use super::bank::Bank;
-
 impl Engine {
     /// Whether a bank may leave the audio thread: no worker of the voice pool can reach it.
     fn may_hand_away(&self, b: &Bank) -> bool {
@@ -19,50 +18,57 @@ impl Engine {
     /// audio thread).
     pub(super) fn retire(&mut self, bank: Box<Bank>) {
         let sent = if self.may_hand_away(&bank) {
-            self.retire_tx.try_send(bank).map_err(|e| e.into_inner())
+            self.handover
+                .retire_tx
+                .try_send(bank)
+                .map_err(|e| e.into_inner())
         } else {
             Err(bank)
         };
         if let Err(b) = sent {
-            if let Some(slot) = self.pending_drop.iter_mut().find(|s| s.is_none()) {
+            if let Some(slot) = self.handover.pending_drop.iter_mut().find(|s| s.is_none()) {
                 *slot = Some(b);
             } else {
                 // Unreachable (see above); keep the bank alive rather than drop it here.
-                self.overflow = Some(b);
+                self.handover.overflow = Some(b);
             }
         }
     }
 
     pub(super) fn swap_bank(&mut self) {
-        for i in 0..self.pending_drop.len() {
-            if let Some(b) = self.pending_drop[i].take() {
+        for i in 0..self.handover.pending_drop.len() {
+            if let Some(b) = self.handover.pending_drop[i].take() {
                 let sent = if self.may_hand_away(&b) {
-                    self.retire_tx.try_send(b).map_err(|e| e.into_inner())
+                    self.handover
+                        .retire_tx
+                        .try_send(b)
+                        .map_err(|e| e.into_inner())
                 } else {
                     Err(b)
                 };
                 if let Err(b) = sent {
-                    self.pending_drop[i] = Some(b);
+                    self.handover.pending_drop[i] = Some(b);
                 }
             }
         }
-        let parked = self.pending_drop.iter().any(|s| s.is_some()) || self.overflow.is_some();
+        let parked = self.handover.pending_drop.iter().any(|s| s.is_some())
+            || self.handover.overflow.is_some();
         if parked || self.held.is_some() {
             return;
         }
-        let Ok(new) = self.bank_rx.try_recv() else {
+        let Ok(new) = self.handover.bank_rx.try_recv() else {
             return;
         };
         if new.generation != self.generation || new.host_rate != self.host_rate {
             self.retire(new);
             return;
         }
-        if let Some((old, _)) = self.retiring.take() {
+        if let Some((old, _)) = self.handover.retiring.take() {
             self.retire(old);
         }
         if let Some(old) = self.bank.replace(new) {
             if old.voices.iter().any(|v| v.active) {
-                self.retiring = Some((old, 0));
+                self.handover.retiring = Some((old, 0));
             } else {
                 self.retire(old);
             }

@@ -121,10 +121,12 @@ mod events;
 pub mod governor;
 mod handle;
 mod handover;
+mod handover_state;
 mod kinds;
 pub mod memory;
 #[cfg(test)]
 mod memory_tests;
+mod meters;
 pub mod midi;
 mod mix;
 mod notes;

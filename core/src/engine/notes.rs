@@ -53,7 +53,7 @@ impl Engine {
                 *slot = kind;
                 self.deferred_len += 1;
             } else {
-                self.deferred_lost += 1;
+                self.counts.deferred_lost += 1;
             }
             return;
         }
@@ -78,7 +78,7 @@ impl Engine {
                             v.sustained = false;
                             if !v.retune(&p) {
                                 v.reset();
-                                self.refused += 1;
+                                self.counts.refused += 1;
                             }
                         }
                     }
@@ -141,7 +141,7 @@ impl Engine {
             }
             let v = &mut b.voices[i];
             if !v.start(&p, key, vel, wheel, frame) {
-                self.refused += 1;
+                self.counts.refused += 1;
             }
             if let VoiceModel::Plate(pv) = &mut v.model {
                 self.governor.reduced += u64::from(std::mem::take(&mut pv.governed));
@@ -188,7 +188,7 @@ impl Engine {
                 v.sustained = true;
             } else if !v.retune(&p) {
                 v.reset();
-                self.refused += 1;
+                self.counts.refused += 1;
             }
         }
     }
@@ -287,7 +287,7 @@ impl Engine {
             for v in b.voices.iter_mut().filter(dirty) {
                 if !v.retune(&p) {
                     v.reset();
-                    self.refused += 1;
+                    self.counts.refused += 1;
                 }
             }
         }
@@ -309,7 +309,7 @@ impl Engine {
             for v in b.voices.iter_mut().filter(|v| v.active) {
                 if !v.retune(&p) {
                     v.reset();
-                    self.refused += 1;
+                    self.counts.refused += 1;
                 }
             }
         }

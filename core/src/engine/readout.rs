@@ -31,7 +31,7 @@ impl Engine {
     /// Voice jobs that were still running on a worker when the audio thread's wait ended,
     /// since the engine was created (their chunks were left out of the mix).
     pub fn late_jobs(&self) -> u64 {
-        self.late
+        self.counts.late
     }
 
     /// Threads allowed to share the last chunk's voices, the audio thread included: the
@@ -45,7 +45,7 @@ impl Engine {
     /// Voice jobs run by the voice pool's workers (not the audio thread) since the engine
     /// was created.
     pub fn worker_jobs(&self) -> u64 {
-        self.worker_jobs_past + self.pool.as_ref().map_or(0, |p| p.worker_jobs())
+        self.counts.worker_jobs_past + self.pool.as_ref().map_or(0, |p| p.worker_jobs())
     }
 
     /// Halves of split plate steps run by the pool's workers (`half_step`: voices whose
@@ -64,7 +64,7 @@ impl Engine {
 
     /// Events lost because more than 256 arrived while a late job held the bank.
     pub fn deferred_events_lost(&self) -> u64 {
-        self.deferred_lost
+        self.counts.deferred_lost
     }
 
     /// Host rate set by [`Self::activate`] (Hz).
@@ -146,24 +146,24 @@ impl Engine {
     /// Mallet contacts begun since the engine was created: every strike of the physical
     /// mallet and every re-strike it makes by itself. Audio thread.
     pub fn mallet_impacts(&self) -> u64 {
-        self.mallet_impacts
+        self.counts.mallet_impacts
     }
 
     /// Contact Newton solves that hit the cap since creation.
     pub fn newton_cap_hits(&self) -> u64 {
-        self.newton_cap_hits
+        self.counts.newton_cap_hits
     }
 
     /// Voices silenced because their state became non-finite or their output passed
     /// [`super::VOICE_CEILING`].
     pub fn diverged_voices(&self) -> u64 {
-        self.diverged
+        self.counts.diverged
     }
 
     /// Notes refused because their coefficients would be unstable (θ = 1 scheme above its
     /// limit, or an exact-scheme mode on a multiple of π).
     pub fn refused_notes(&self) -> u64 {
-        self.refused
+        self.counts.refused
     }
 
     /// Output samples the output stage's last guard had to change since the engine was created:
@@ -174,58 +174,58 @@ impl Engine {
     /// in a block played with the limiter on means the limiter failed. With the limiter off
     /// it counts the hard-clipped samples.
     pub fn guarded_samples(&self) -> u64 {
-        self.guarded_past + self.output.guarded()
+        self.counts.guarded_past + self.output.guarded()
     }
 
     pub(super) fn account(&mut self, left: &[f32], right: &[f32], start: Instant) {
         for (c, x) in [left, right].into_iter().enumerate() {
             for &s in x {
-                self.peak[c] = self.peak[c].max(s.abs());
-                self.sumsq[c] += (s as f64) * (s as f64);
+                self.meters.peak[c] = self.meters.peak[c].max(s.abs());
+                self.meters.sumsq[c] += (s as f64) * (s as f64);
             }
         }
-        self.tele_samples += left.len() as u64;
+        self.meters.samples += left.len() as u64;
         let dur = left.len() as f64 / self.host_rate;
         let spent = start.elapsed().as_secs_f64();
-        self.busy += spent;
+        self.meters.busy += spent;
         if dur > 0.0 {
-            self.cpu_peak = self.cpu_peak.max((spent / dur) as f32);
+            self.meters.cpu_peak = self.meters.cpu_peak.max((spent / dur) as f32);
         }
         self.watch_load(spent, left.len());
-        if self.frame >= self.tele_next {
-            self.tele_next = self.frame + (self.host_rate / TELEMETRY_RATE) as u64;
+        if self.frame >= self.meters.next {
+            self.meters.next = self.frame + (self.host_rate / TELEMETRY_RATE) as u64;
             self.send_telemetry();
         }
     }
 
     fn send_telemetry(&mut self) {
-        let audio_s = self.tele_samples.max(1) as f64 / self.host_rate;
+        let audio_s = self.meters.samples.max(1) as f64 / self.host_rate;
         let workers = self.pool.as_mut().map_or(0.0, |p| p.take_cpu());
         let mut t = Telemetry {
             frame: self.frame,
-            cpu_load: ((self.busy + workers) / audio_s) as f32,
-            audio_load: (self.busy / audio_s) as f32,
-            cpu_peak: self.cpu_peak,
+            cpu_load: ((self.meters.busy + workers) / audio_s) as f32,
+            audio_load: (self.meters.busy / audio_s) as f32,
+            cpu_peak: self.meters.cpu_peak,
             threads: self.threads_used,
-            late_jobs: self.late,
+            late_jobs: self.counts.late,
             governor_reduced: self.governor.reduced,
             governor_shed: self.governor.shed,
             rebuilding: self.status.rebuilding.load(Ordering::Acquire),
-            newton_cap_hits: self.newton_cap_hits,
-            diverged: self.diverged,
+            newton_cap_hits: self.counts.newton_cap_hits,
+            diverged: self.counts.diverged,
             guarded: self.guarded_samples(),
             memory_bytes: self.memory_bytes(),
             ..Telemetry::default()
         };
         for c in 0..2 {
-            t.peak[c] = self.peak[c];
-            t.rms[c] = (self.sumsq[c] / self.tele_samples.max(1) as f64).sqrt() as f32;
+            t.peak[c] = self.meters.peak[c];
+            t.rms[c] = (self.meters.sumsq[c] / self.meters.samples.max(1) as f64).sqrt() as f32;
         }
-        self.peak = [0.0; 2];
-        self.sumsq = [0.0; 2];
-        self.tele_samples = 0;
-        self.busy = 0.0;
-        self.cpu_peak = 0.0;
+        self.meters.peak = [0.0; 2];
+        self.meters.sumsq = [0.0; 2];
+        self.meters.samples = 0;
+        self.meters.busy = 0.0;
+        self.meters.cpu_peak = 0.0;
         if let Some(b) = self.bank.as_mut() {
             t.bank = b.id;
             t.modes_fitted = b.fitted;
