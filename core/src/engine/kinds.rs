@@ -1,4 +1,5 @@
-//! The instrument models and plate materials selectable by parameter.
+//! The instrument models selectable by parameter (the materials are the scenes' own
+//! [`crate::models::plate::spec::Material`], with its named constants).
 
 /// The model a voice bank plays ([`ParamId::Model`]). Plain `Copy` data, any thread.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -53,42 +54,4 @@ impl ModelKind {
     pub fn key(self) -> &'static str {
         Self::KEYS[self as usize]
     }
-}
-
-/// Elastic constants of a plate material. Plain `Copy` data.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Material {
-    /// Young's modulus `E` in Pa.
-    pub youngs_modulus: f64,
-    /// Density `ρ` in kg/m³.
-    pub density: f64,
-    /// Poisson ratio `ν`.
-    pub poisson: f64,
-}
-
-impl Material {
-    /// Steel: E = 200 GPa, ρ = 7860 kg/m³, ν = 0.3 (the lecture's gong).
-    pub const STEEL: Material = Material {
-        youngs_modulus: 2.0e11,
-        density: 7860.0,
-        poisson: 0.3,
-    };
-    /// Bell bronze (CuSn20): E = 104 GPa, ρ = 8600 kg/m³, ν = 0.34 (handbook values).
-    pub const BRONZE: Material = Material {
-        youngs_modulus: 1.04e11,
-        density: 8600.0,
-        poisson: 0.34,
-    };
-    /// Brass (CuZn37): E = 110 GPa, ρ = 8440 kg/m³, ν = 0.34.
-    pub const BRASS: Material = Material {
-        youngs_modulus: 1.1e11,
-        density: 8440.0,
-        poisson: 0.34,
-    };
-    /// Aluminium alloy: E = 70 GPa, ρ = 2700 kg/m³, ν = 0.33.
-    pub const ALUMINIUM: Material = Material {
-        youngs_modulus: 7.0e10,
-        density: 2700.0,
-        poisson: 0.33,
-    };
 }

@@ -146,11 +146,12 @@ mod telemetry;
 pub mod tuning;
 pub mod voice;
 
+pub use crate::models::plate::spec::Material;
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use events::{Event, EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 pub use handle::{EngineHandle, DEBOUNCE};
-pub use kinds::{Material, ModelKind};
+pub use kinds::ModelKind;
 pub use memory::{FitReason, ModesFitted};
 pub use mix::SILENCE_RATIO;
 pub use output::{OutputStage, CEILING, LOOKAHEAD};

@@ -12,10 +12,11 @@
 //! refuses out-of-range or non-finite values with a [`ParamError`] naming the parameter, the
 //! value and the range: the host layer clamps and reports, the engine never clamps silently.
 
-use super::kinds::{Material, ModelKind};
+use super::kinds::ModelKind;
 use super::param_meta::{ParamGroup, Reads, Shown};
 use super::tuning::SharedTuning;
 use crate::error::ParamError;
+use crate::models::plate::spec::Material;
 use crate::models::plate::PlateScheme;
 use crate::models::ranges as r;
 use std::sync::atomic::{AtomicU32, AtomicU64, Ordering};

@@ -23,11 +23,11 @@ use super::memory::{FitReason, ModesFitted};
 use super::params::{ParamId, ParamValues};
 use super::voice::{StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
+use crate::models::quantity::Quantity;
 use crate::models::string::spec::{
-    StringContact, StringExcitation, StringObstacle, StringOutput, StringQuantity, StringReadout,
-    StringSpec,
+    StringContact, StringExcitation, StringObstacle, StringOutput, StringSpec,
 };
-use crate::models::string::{StiffString, StringConfig, ValetteLosses};
+use crate::models::string::{Readout, StiffString, StringConfig, ValetteLosses};
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
@@ -158,8 +158,8 @@ fn string_spec(kind: ModelKind, v: &ParamValues, modes: usize, sim_rate: f64) ->
     // mode count).
     let pickup = |id: ParamId| StringOutput::Pickup {
         position: v.get(id) as f64 * length,
-        quantity: StringQuantity::Velocity,
-        readout: StringReadout::Modal,
+        quantity: Quantity::Velocity,
+        readout: Readout::Modal,
     };
     StringSpec {
         length,

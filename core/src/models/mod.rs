@@ -5,6 +5,7 @@
 //!   linear scheme with an energy-conserving contact force (SEED.md section 3.2).
 
 pub mod plate;
+pub mod quantity;
 pub mod ranges;
 pub mod sav_relaxation;
 pub mod source;

@@ -54,14 +54,37 @@ pub struct Material {
     pub poisson: f64,
 }
 
+impl Material {
+    /// Steel: E = 200 GPa, ρ = 7860 kg/m³, ν = 0.3 (the lecture's gong).
+    pub const STEEL: Material = Material {
+        youngs_modulus: 2.0e11,
+        density: 7860.0,
+        poisson: 0.3,
+    };
+    /// Bell bronze (CuSn20): E = 104 GPa, ρ = 8600 kg/m³, ν = 0.34 (handbook values).
+    pub const BRONZE: Material = Material {
+        youngs_modulus: 1.04e11,
+        density: 8600.0,
+        poisson: 0.34,
+    };
+    /// Brass (CuZn37): E = 110 GPa, ρ = 8440 kg/m³, ν = 0.34.
+    pub const BRASS: Material = Material {
+        youngs_modulus: 1.1e11,
+        density: 8440.0,
+        poisson: 0.34,
+    };
+    /// Aluminium alloy: E = 70 GPa, ρ = 2700 kg/m³, ν = 0.33.
+    pub const ALUMINIUM: Material = Material {
+        youngs_modulus: 7.0e10,
+        density: 2700.0,
+        poisson: 0.33,
+    };
+}
+
 impl Default for Material {
-    /// The lecture's steel: E = 200 GPa, ρ = 7860 kg/m³, ν = 0.3.
+    /// The lecture's steel ([`Material::STEEL`]).
     fn default() -> Self {
-        Self {
-            youngs_modulus: 2e11,
-            density: 7860.0,
-            poisson: 0.3,
-        }
+        Self::STEEL
     }
 }
 
@@ -258,16 +281,7 @@ impl Excitation {
     }
 }
 
-/// What a pickup measures.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum Quantity {
-    /// Transverse displacement w (m).
-    Displacement,
-    /// Transverse velocity ẇ (m/s).
-    #[default]
-    Velocity,
-}
+pub use crate::models::quantity::Quantity;
 
 /// One output channel.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]

@@ -7,24 +7,18 @@
 
 use super::params::StringParams;
 use crate::error::ParamError;
+use serde::{Deserialize, Serialize};
 
-/// Which kinematic quantity a pickup reads.
+pub use crate::models::quantity::Quantity;
+
+/// How a pickup evaluates the field between nodes (scenes: `readout = "grid"` or `"modal"`).
 ///
 /// Read on the control thread at build time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Quantity {
-    /// Displacement `u^{n+1}(x)` in m.
-    Displacement,
-    /// Velocity `δ_{t-} u^{n+1}(x) = (u^{n+1} - u^n)/h` in m/s (the velocity of the energy).
-    Velocity,
-}
-
-/// How a pickup evaluates the field between nodes.
-///
-/// Read on the control thread at build time.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
 pub enum Readout {
     /// Linear interpolation between the two nearest grid values (`u_0 = u_N = 0`); O(1) a step.
+    #[default]
     Grid,
     /// Modal sum `Σ_j q_j φ_j(x)`: exact for the modal field; O(N) a step.
     Modal,

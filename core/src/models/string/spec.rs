@@ -6,9 +6,8 @@
 
 use crate::error::ParamError;
 use crate::models::string::{
-    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity as ModelQuantity,
-    Readout as ModelReadout, SitarBridge, Stiffness, StrikeForce, StringConfig, StringParams,
-    TrianglePluck, ValetteLosses,
+    ContactLaw, ContactScheme, Losses, Obstacle, OutputChannel, Quantity, Readout, SitarBridge,
+    Stiffness, StrikeForce, StringConfig, StringParams, TrianglePluck, ValetteLosses,
 };
 use serde::{Deserialize, Serialize};
 
@@ -181,28 +180,6 @@ pub enum StringExcitation {
     },
 }
 
-/// What a pickup reads.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum StringQuantity {
-    /// Displacement (m).
-    Displacement,
-    /// Velocity (m/s).
-    #[default]
-    Velocity,
-}
-
-/// How a pickup evaluates the field.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-#[serde(rename_all = "kebab-case")]
-pub enum StringReadout {
-    /// Linear interpolation on the grid (O(1) per step).
-    #[default]
-    Grid,
-    /// Modal sum (O(N) per step).
-    Modal,
-}
-
 /// One output channel.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
@@ -213,10 +190,10 @@ pub enum StringOutput {
         position: f64,
         /// What it reads.
         #[serde(default)]
-        quantity: StringQuantity,
+        quantity: Quantity,
         /// How it reads it.
         #[serde(default)]
-        readout: StringReadout,
+        readout: Readout,
     },
     /// The total force on the obstacle (N).
     BridgeForce,
@@ -358,14 +335,8 @@ impl StringSpec {
                     readout,
                 } => OutputChannel::Pickup {
                     position,
-                    quantity: match quantity {
-                        StringQuantity::Displacement => ModelQuantity::Displacement,
-                        StringQuantity::Velocity => ModelQuantity::Velocity,
-                    },
-                    readout: match readout {
-                        StringReadout::Grid => ModelReadout::Grid,
-                        StringReadout::Modal => ModelReadout::Modal,
-                    },
+                    quantity,
+                    readout,
                 },
             })
             .collect();
@@ -396,8 +367,8 @@ impl StringSpec {
             .iter()
             .map(|&f| StringOutput::Pickup {
                 position: f * self.length,
-                quantity: StringQuantity::Velocity,
-                readout: StringReadout::Grid,
+                quantity: Quantity::Velocity,
+                readout: Readout::Grid,
             })
             .collect()
     }
