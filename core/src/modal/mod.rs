@@ -31,6 +31,7 @@ pub mod circular;
 pub mod error;
 pub mod quadrature;
 pub mod rect;
+pub mod scaling;
 pub mod shell;
 pub mod tensor;
 

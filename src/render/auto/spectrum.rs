@@ -20,10 +20,9 @@ fn edge(plate: &PlateSpec) -> CircularEdge {
 }
 
 /// `√(D/ρh)/L²` (rad/s per unit of dimensionless `λ²`), `L` the radius or `lx`, as the voice
-/// scales its basis (`src/models/plate/voice.rs`).
+/// scales its basis ([`PlateSpec::pulsation_scale`]).
 fn omega_scale(plate: &PlateSpec) -> f64 {
-    let a = plate.length_scale();
-    (plate.rigidity() / plate.surface_density()).sqrt() / (a * a)
+    plate.pulsation_scale()
 }
 
 /// One transverse mode: its frequency (Hz) and whether it is even about the strike diameter

@@ -30,6 +30,7 @@ use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::params::ParamId;
 use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
+use crate::modal::scaling::{flexural_rigidity, in_plane_scale, pulsation_scale};
 use crate::modal::CouplingTensor;
 use crate::models::plate::basis::PlateBasis;
 use crate::models::plate::spec::Position;
@@ -248,9 +249,9 @@ impl PlateVoice {
         let a = v.get(ParamId::Size) as f64;
         let h = v.get(ParamId::Thickness) as f64 * pitch_ratio(p, key, note);
         let nu = self.data.poisson;
-        let d = m.youngs_modulus * h * h * h / (12.0 * (1.0 - nu * nu));
+        let d = flexural_rigidity(m.youngs_modulus, h, nu);
         let rho_h = m.density * h;
-        ((d / rho_h).sqrt() / (a * a), a, h, rho_h, m.youngs_modulus)
+        (pulsation_scale(d, rho_h, a), a, h, rho_h, m.youngs_modulus)
     }
 
     /// Prepares a fresh note: the smallest tier holding every mode under the band limit (the
@@ -489,9 +490,8 @@ impl PlateVoice {
             self.omega[s] = w;
             self.damping[s] = law(w);
         }
-        let a4 = a.powi(4);
         for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4).take(m) {
-            *z = zh / a4;
+            *z = in_plane_scale(zh, a);
         }
         let kappa = if self.data.linear { 0.0 } else { a.powi(-5) };
         let ok = self.models[self.tier]

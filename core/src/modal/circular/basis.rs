@@ -155,8 +155,12 @@ pub fn omega_scale(
     check_positive("young", young)?;
     check_positive("density", density)?;
     check_closed("nu", nu, 0.0, 0.5)?;
-    let d = young * thickness.powi(3) / (12.0 * (1.0 - nu * nu));
-    Ok((d / (density * thickness)).sqrt() / (radius * radius))
+    let d = crate::modal::scaling::flexural_rigidity(young, thickness, nu);
+    Ok(crate::modal::scaling::pulsation_scale(
+        d,
+        density * thickness,
+        radius,
+    ))
 }
 
 /// The modal basis of a circular plate and its coupling tensor.

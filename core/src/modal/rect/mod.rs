@@ -245,7 +245,7 @@ impl RectModes {
         crate::error::check_positive("lx", lx)?;
         crate::error::check_positive("d", d)?;
         crate::error::check_positive("rho_h", rho_h)?;
-        let c = (d / rho_h).sqrt() / (lx * lx);
+        let c = crate::modal::scaling::pulsation_scale(d, rho_h, lx);
         Ok(self.lambda2.iter().map(|l| l * c).collect())
     }
 }

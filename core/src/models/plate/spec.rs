@@ -6,6 +6,7 @@ use super::rest_shape::validate_parts;
 /// One part of `plate.imperfection` (the rest shape's own type).
 pub use super::rest_shape::ShapePart;
 use crate::error::{check_closed, ParamError};
+use crate::modal::scaling::{flexural_rigidity, pulsation_scale};
 use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
 
@@ -555,7 +556,13 @@ impl PlateSpec {
     /// Flexural rigidity `D = E h³ / (12 (1 - ν²))` in N·m.
     pub fn rigidity(&self) -> f64 {
         let m = &self.material;
-        m.youngs_modulus * self.thickness.powi(3) / (12.0 * (1.0 - m.poisson * m.poisson))
+        flexural_rigidity(m.youngs_modulus, self.thickness, m.poisson)
+    }
+
+    /// The factor of the unit basis's `λ_s²` giving this plate's pulsations (rad/s):
+    /// `√(D/ρh) / a²` ([`pulsation_scale`]).
+    pub fn pulsation_scale(&self) -> f64 {
+        pulsation_scale(self.rigidity(), self.surface_density(), self.length_scale())
     }
 
     /// Surface density `ρ h` in kg/m².
