@@ -10,8 +10,8 @@ use std::sync::Arc;
 
 use crate::plate_mallet::{plate, sounding, Rng};
 use noether::models::plate::{
-    hand_damping_for_t60, DenseCoupling, LinearSolve, Mallet, Pickup, PickupKind, PlateModel,
-    PlateParams, PlateScheme,
+    hand_damping_for_t60, DenseCoupling, LinearSolve, Mallet, PickupKind, PickupWeights,
+    PlateModel, PlateParams, PlateScheme,
 };
 use noether_testkit::alloc::allocations;
 
@@ -238,7 +238,7 @@ fn the_hand_damps_the_mode_at_the_designed_rate() {
             solve: LinearSolve::Auto,
         };
         let coupling = Arc::new(DenseCoupling::from_fn(nf, 1, |_, _, _| 0.0).unwrap());
-        let pickup = Pickup::new(vec![1.0; nf], PickupKind::Displacement).unwrap();
+        let pickup = PickupWeights::new(vec![1.0; nf], PickupKind::Displacement).unwrap();
         let mut p = PlateModel::new(&params, coupling, vec![1.0; nf], vec![pickup]).unwrap();
         let hw: Vec<f64> = Rng(3).vec(nf).iter().map(|w| 1.0 + 0.5 * w).collect();
         let c = hand_damping_for_t60(params.rho_h, hw[0], t60);

@@ -9,7 +9,8 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use noether::models::plate::{
-    DenseCoupling, LinearSolve, Mallet, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme,
+    DenseCoupling, LinearSolve, Mallet, PickupKind, PickupWeights, PlateModel, PlateParams,
+    PlateScheme,
 };
 use noether_testkit::alloc::allocations;
 
@@ -63,7 +64,7 @@ pub(crate) fn plate(
     };
     let c = Arc::new(DenseCoupling::from_fn(nf, np, |_, _, _| rng.next()).unwrap());
     let weights: Vec<f64> = rng.vec(nf).iter().map(|w| 1.0 + 0.5 * w).collect();
-    let pickup = Pickup::new(rng.vec(nf), PickupKind::Displacement).unwrap();
+    let pickup = PickupWeights::new(rng.vec(nf), PickupKind::Displacement).unwrap();
     PlateModel::new(&params, c, weights, vec![pickup]).unwrap()
 }
 

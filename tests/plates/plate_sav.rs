@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 use std::sync::Arc;
 
 use noether::models::plate::{
-    DenseCoupling, LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme,
+    DenseCoupling, LinearSolve, PickupKind, PickupWeights, PlateModel, PlateParams, PlateScheme,
     RaisedCosine,
 };
 use noether::models::sav_relaxation::SavRelaxation;
@@ -63,7 +63,7 @@ fn model(p: &PlateParams, seed: u64) -> PlateModel<DenseCoupling> {
         p,
         c,
         rng.vec(n_phi),
-        vec![Pickup::new(rng.vec(n_phi), PickupKind::Displacement).unwrap()],
+        vec![PickupWeights::new(rng.vec(n_phi), PickupKind::Displacement).unwrap()],
     )
     .unwrap()
 }

@@ -10,8 +10,8 @@ use std::sync::Arc;
 
 use noether::analysis::frequency::measure;
 use noether::models::plate::{
-    damping_law, impulse_force, DenseCoupling, LinearSolve, ModalCoupling, Pickup, PickupKind,
-    PlateModel, PlateParams, PlateScheme, RaisedCosine,
+    damping_law, impulse_force, DenseCoupling, LinearSolve, ModalCoupling, PickupKind,
+    PickupWeights, PlateModel, PlateParams, PlateScheme, RaisedCosine,
 };
 use noether_testkit::alloc::allocations;
 
@@ -93,7 +93,7 @@ impl Case {
             &self.params(scheme, solve),
             self.coupling(),
             rng.vec(self.n_phi),
-            vec![Pickup::new(rng.vec(self.n_phi), PickupKind::Displacement).unwrap()],
+            vec![PickupWeights::new(rng.vec(self.n_phi), PickupKind::Displacement).unwrap()],
         )
         .unwrap()
     }
@@ -303,8 +303,8 @@ fn process_matches_step_and_does_not_allocate() {
         let coupling: Arc<dyn ModalCoupling> = case.coupling();
         let weights = Rng(77).vec(10);
         let pickups = vec![
-            Pickup::new(weights.clone(), PickupKind::Displacement).unwrap(),
-            Pickup::new(weights.clone(), PickupKind::VelocityBackward).unwrap(),
+            PickupWeights::new(weights.clone(), PickupKind::Displacement).unwrap(),
+            PickupWeights::new(weights.clone(), PickupKind::VelocityBackward).unwrap(),
         ];
         let params = case.params(scheme, LinearSolve::Auto);
         let mut a: PlateModel =

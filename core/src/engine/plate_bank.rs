@@ -26,7 +26,7 @@ use crate::models::plate::rest_projection::project;
 use crate::models::plate::rest_shape::ShapePart;
 use crate::models::plate::spec::{PlateShape, Position, Symmetry};
 use crate::models::plate::{
-    LinearSolve, Pickup, PickupKind, PlateModel, PlateParams, PlateScheme, StepBoard,
+    LinearSolve, PickupKind, PickupWeights, PlateModel, PlateParams, PlateScheme, StepBoard,
     SPLIT_MIN_ENTRIES,
 };
 use std::f64::consts::{PI, TAU};
@@ -287,8 +287,8 @@ pub(crate) fn plate_voices(
                 solve: LinearSolve::Auto,
             };
             let pickups = vec![
-                Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
-                Pickup::new(vec![0.0; n], PickupKind::VelocityBackward)?,
+                PickupWeights::new(vec![0.0; n], PickupKind::VelocityBackward)?,
+                PickupWeights::new(vec![0.0; n], PickupKind::VelocityBackward)?,
             ];
             let mut model = PlateModel::new(&params, coupling.clone(), vec![0.0; n], pickups)?;
             if coupling.nnz() >= SPLIT_MIN_ENTRIES {

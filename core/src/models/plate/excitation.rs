@@ -6,7 +6,7 @@
 //!   strike point, position handled by the caller) and a scalar force `F(t)` (N); the modal
 //!   forcing is `p_s = Φ_s(x₀) F / ρh`. Signals: [`RaisedCosine`] strikes and one-step impulses
 //!   ([`impulse_force`]).
-//! - Outputs: [`Pickup`]s, each a weight vector `Φ_s(x_out)` and a [`PickupKind`].
+//! - Outputs: [`PickupWeights`]s, each a weight vector `Φ_s(x_out)` and a [`PickupKind`].
 //!
 //! Threads: helpers run on a worker thread when building; [`RaisedCosine::force`] and
 //! [`impulse_force`] are cheap, non-allocating and may be called on the audio thread.
@@ -96,7 +96,7 @@ pub fn impulse_force(impulse: f64, fs: f64) -> f64 {
     impulse * fs
 }
 
-/// What a [`Pickup`] reads (plain `Copy` data; set at build time, read on the audio thread).
+/// What a [`PickupWeights`] reads (plain `Copy` data; set at build time, read on the audio thread).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PickupKind {
     /// Displacement `w(x, n+1) = Σ_s Φ_s q_s(n+1)` (m with normalised modes) after the step
@@ -110,19 +110,20 @@ pub enum PickupKind {
     VelocityBackward,
 }
 
-/// One output point: weights `Φ_s(x_out)` (1/m with normalised modes), one per transverse mode,
-/// and what to read there.
+/// One output point resolved for a model: weights `Φ_s(x_out)` (1/m with normalised modes), one
+/// per transverse mode, and what to read there (a scene's `[[pickups]]` entry,
+/// [`super::spec::Pickup`], is where it is and what it measures).
 ///
 /// Built on a worker thread and moved into the model.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Pickup {
+pub struct PickupWeights {
     /// Mode shapes at the pickup point, `Φ_s(x_out)` (1/m), length `N_Φ`.
     pub weights: Vec<f64>,
     /// Displacement or velocity.
     pub kind: PickupKind,
 }
 
-impl Pickup {
+impl PickupWeights {
     /// Validated constructor: every weight finite (the length is checked by the model).
     pub fn new(weights: Vec<f64>, kind: PickupKind) -> Result<Self, ParamError> {
         for (s, &w) in weights.iter().enumerate() {

@@ -122,7 +122,8 @@ pub mod voice;
 pub use coupling::{DenseCoupling, ModalCoupling};
 pub use energy::PlateEnergy;
 pub use excitation::{
-    damping_law, damping_to_t60, impulse_force, t60_to_damping, Pickup, PickupKind, RaisedCosine,
+    damping_law, damping_to_t60, impulse_force, t60_to_damping, PickupKind, PickupWeights,
+    RaisedCosine,
 };
 pub use extension::{BandExtension, ExtensionEnergy};
 pub use half_step::{StepBoard, SPLIT_MIN_ENTRIES};

@@ -15,7 +15,7 @@ use super::closure::{
 };
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
-use super::excitation::{Pickup, PickupKind};
+use super::excitation::{PickupKind, PickupWeights};
 use super::half_step::StepBoard;
 use super::hand::Hand;
 use super::lanes::{all_finite, lane_sum};
@@ -92,7 +92,7 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     e_sqrt: Vec<f64>,
     u_coef: Vec<f64>,
     force_weights: Vec<f64>,
-    pickups: Vec<Pickup>,
+    pickups: Vec<PickupWeights>,
     outputs: Vec<f64>,
     q_prev: Vec<f64>,
     q: Vec<f64>,
@@ -156,7 +156,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         params: &PlateParams,
         coupling: Arc<C>,
         force_weights: Vec<f64>,
-        pickups: Vec<Pickup>,
+        pickups: Vec<PickupWeights>,
     ) -> Result<Self, ParamError> {
         let (nf, np) = (coupling.n_phi(), coupling.n_psi());
         let v = params.validate(nf, np)?;

@@ -8,7 +8,7 @@
 //! the dimensionless basis and tensor are reused as they are.
 
 use super::basis::{BasisKey, ModalCache};
-use super::excitation::{damping_law, Pickup, PickupKind, RaisedCosine};
+use super::excitation::{damping_law, PickupKind, PickupWeights, RaisedCosine};
 use super::extension::{ceiling_hz, mode_count, BandExtension};
 use super::mode_list::ModeList;
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
@@ -159,7 +159,7 @@ impl PlateVoice {
                     Quantity::Displacement => PickupKind::Displacement,
                     Quantity::Velocity => PickupKind::VelocityBackward,
                 };
-                Pickup::new(weights(&p.at), kind)
+                PickupWeights::new(weights(&p.at), kind)
             })
             .collect::<Result<Vec<_>, _>>()?;
         let nnz = basis.coupling.nnz();
