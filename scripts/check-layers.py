@@ -113,7 +113,7 @@ CRATES = [
         ],
     ),
     ("noether (bin)", "src/main.rs", [["cli"]]),
-    ("noether-testkit", "testkit/src/lib.rs", [["alloc", "env", "presets", "soak"], ["harness", "performance"]]),
+    ("noether-testkit", "testkit/src/lib.rs", [["alloc", "env", "presets", "soak", "take"], ["harness", "performance"]]),
     (
         "noether-plugin",
         "plugin/src/lib.rs",

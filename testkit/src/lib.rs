@@ -13,7 +13,9 @@
 //! - [`presets`]: a factory preset's parameters with some changed, the set-up the engine
 //!   tests and benchmarks start from;
 //! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/robustness`,
-//!   `examples/soak.rs`).
+//!   `examples/soak.rs`);
+//! - [`take`]: the engine tests' one render loop (a stereo take with the first block's events)
+//!   and its peak and RMS.
 
 pub mod alloc;
 pub mod env;
@@ -21,3 +23,4 @@ pub mod harness;
 pub mod performance;
 pub mod presets;
 pub mod soak;
+pub mod take;

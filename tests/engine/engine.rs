@@ -5,6 +5,7 @@
 
 use noether::engine::{Engine, EngineHandle, ParamId, Preset, SharedParams};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take::{peak, render_seconds, rms};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -17,20 +18,8 @@ fn engine_with(preset: &str, host_rate: f64) -> (Engine, EngineHandle, Arc<Share
 
 /// Renders `seconds` in blocks of `block`; returns the left and right channels.
 fn render(e: &mut Engine, seconds: f64, block: usize) -> (Vec<f32>, Vec<f32>) {
-    let n = (seconds * e.host_rate()) as usize;
-    let (mut l, mut r) = (vec![0.0; n], vec![0.0; n]);
-    for (cl, cr) in l.chunks_mut(block).zip(r.chunks_mut(block)) {
-        e.process(cl, cr);
-    }
-    (l, r)
-}
-
-fn rms(x: &[f32]) -> f64 {
-    (x.iter().map(|&v| (v as f64).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
-}
-
-fn peak(x: &[f32]) -> f32 {
-    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
+    let t = render_seconds(e, &[], seconds, block);
+    (t.left, t.right)
 }
 
 /// Processes until the engine's bank changes from `old` (the worker's build arrived).

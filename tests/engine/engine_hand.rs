@@ -6,6 +6,7 @@
 
 use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId, HAND_T60};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take::{self, rms_f64 as rms};
 use std::f64::consts::TAU;
 
 const RATE: f64 = 48_000.0;
@@ -55,13 +56,7 @@ fn render(
             },
         ));
     }
-    let n = (seconds * RATE) as usize;
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (k, (cl, cr)) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)).enumerate() {
-        let ev: &[Event] = if k == 0 { &events } else { &[] };
-        e.process_events(ev, cl, cr);
-    }
-    l.iter().zip(&r).map(|(a, b)| f64::from(a + b)).collect()
+    take::render(&mut e, &events, (seconds * RATE) as usize, BLOCK).sum_f64()
 }
 
 /// Amplitude of the component at `f` (Hz) in the 40 ms of `x` centred at `t` (s): a
@@ -102,11 +97,6 @@ fn lowest_peak(x: &[f64]) -> f64 {
         .find(|&k| m[k] >= 0.1 * top && m[k] >= m[k - 1] && m[k] >= m[k + 1])
         .expect("a peak");
     (20 + k) as f64
-}
-
-/// Root-mean-square of `x`.
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 /// `preset`'s note with and without the hand at full pressure: the fundamental (Hz), its 60 dB

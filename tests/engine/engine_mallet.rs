@@ -6,6 +6,7 @@
 
 use noether::engine::{Engine, ParamId, SharedParams, CEILING};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take::{self, peak};
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 256;
@@ -32,16 +33,8 @@ fn engine(set: &[(ParamId, f32)]) -> Engine {
 fn render(vel: u8, seconds: f64, set: &[(ParamId, f32)]) -> (Vec<f32>, Vec<f32>) {
     let mut e = engine(set);
     e.note_on(60, f32::from(vel) / 127.0);
-    let n = (seconds * RATE) as usize;
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (cl, cr) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)) {
-        e.process(cl, cr);
-    }
-    (l, r)
-}
-
-fn peak(x: &[f32]) -> f32 {
-    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
+    let t = take::render(&mut e, &[], (seconds * RATE) as usize, BLOCK);
+    (t.left, t.right)
 }
 
 /// The mallet's brightening over the pulse's on the gong (ratio of the centroid ratios):

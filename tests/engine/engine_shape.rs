@@ -11,6 +11,7 @@ use noether::modal::circular::{CircularEdge, PlateModes};
 use noether::modal::shell::{shell_modes, CapCoupling, Imperfection};
 use noether::modal::CircularPlateSpec;
 use noether_testkit::presets::preset_params;
+use noether_testkit::take;
 use std::f64::consts::TAU;
 use std::sync::Arc;
 
@@ -31,12 +32,7 @@ fn engine(sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>) {
 
 /// Renders `seconds` after `events` (sent with the first block); left plus right.
 fn render(e: &mut Engine, events: &[Event], seconds: f64) -> Vec<f64> {
-    let n = (seconds * RATE) as usize;
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (k, (cl, cr)) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)).enumerate() {
-        e.process_events(if k == 0 { events } else { &[] }, cl, cr);
-    }
-    l.iter().zip(&r).map(|(a, b)| f64::from(a + b)).collect()
+    take::render(e, events, (seconds * RATE) as usize, BLOCK).sum_f64()
 }
 
 fn note_on(key: u8) -> Event {

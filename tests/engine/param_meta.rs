@@ -8,6 +8,7 @@
 
 use noether::engine::{Engine, Event, EventKind, ParamId, ParamKind, ParamValues, SharedParams};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take;
 use std::sync::Arc;
 
 /// Samples rendered per note (85 ms at 48 kHz: the attack, where every exciter acts).
@@ -41,15 +42,8 @@ fn render(v: &ParamValues, what: &str) -> Vec<f32> {
             velocity: 0.8,
         },
     )];
-    let mut out = Vec::with_capacity(2 * SAMPLES);
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    for b in 0..SAMPLES / BLOCK {
-        let events: &[Event] = if b == 0 { &on } else { &[] };
-        e.process_events(events, &mut l, &mut r);
-        out.extend_from_slice(&l);
-        out.extend_from_slice(&r);
-    }
-    out
+    let t = take::render(&mut e, &on, SAMPLES, BLOCK);
+    [t.left, t.right].concat()
 }
 
 /// Another value of `id` inside its range: 73 % of the way from the minimum (of the
@@ -123,8 +117,8 @@ fn a_parameter_an_instrument_does_not_read_does_not_change_its_sound() {
             let first = base.iter().zip(&out).position(|(a, b)| a != b);
             assert!(
                 first.is_none(),
-                "{what} changes the sound from sample {:?}",
-                first.map(|i| i / 2)
+                "{what} changes the sound from sample {:?} (of the left, then the right)",
+                first
             );
             checked += 1;
         }

@@ -17,6 +17,7 @@
 use noether::engine::voice::modulation::bright_pluck;
 use noether::engine::{Engine, Event, EventKind, NoteExpression, ParamId};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take::{self, peak};
 
 const RATE: f64 = 48_000.0;
 const BLOCK: usize = 256;
@@ -41,29 +42,16 @@ fn engine(preset: &str, sets: &[(ParamId, f32)]) -> Engine {
     e
 }
 
-/// `seconds` of both channels (block by block, left then right), with `events` in the first
-/// block.
+/// `seconds` (whole blocks, at least one) of both channels, the left then the right, with
+/// `events` in the first block.
 fn render(e: &mut Engine, events: &[Event], seconds: f64) -> Vec<f32> {
-    let n = (seconds * RATE) as usize / BLOCK * BLOCK;
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    let mut out = Vec::with_capacity(2 * n);
-    e.process_events(events, &mut l, &mut r);
-    out.extend_from_slice(&l);
-    out.extend_from_slice(&r);
-    while out.len() < 2 * n {
-        e.process(&mut l, &mut r);
-        out.extend_from_slice(&l);
-        out.extend_from_slice(&r);
-    }
-    out
+    let n = ((seconds * RATE) as usize / BLOCK).max(1) * BLOCK;
+    let t = take::render(e, events, n, BLOCK);
+    [t.left, t.right].concat()
 }
 
 fn note(key: u8) -> Event {
     Event::new(0, EventKind::NoteOn { key, velocity: 1.0 })
-}
-
-fn peak(x: &[f32]) -> f32 {
-    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
 }
 
 /// Largest difference of `a` and `b` over the peak of `a`.
@@ -219,16 +207,10 @@ fn pan_places_the_note() {
         key: KEYS.0,
         expression: NoteExpression::Pan(p),
     };
+    // `render` returns the left channel, then the right.
     let split = |x: &[f32]| {
-        let (mut l, mut r) = (Vec::new(), Vec::new());
-        for (b, block) in x.chunks(BLOCK).enumerate() {
-            if b % 2 == 0 {
-                l.extend_from_slice(block)
-            } else {
-                r.extend_from_slice(block)
-            }
-        }
-        (l, r)
+        let (l, r) = x.split_at(x.len() / 2);
+        (l.to_vec(), r.to_vec())
     };
     let neutral = single("sitar", &[], &[]);
     assert_eq!(single("sitar", &[], &[pan(0.5)]), neutral);

@@ -15,6 +15,7 @@
 use noether::analysis::fundamental::{band_near, fundamental_near};
 use noether::engine::{scala_tuning, Engine, KeyTuning, ParamId, Preset, SharedParams};
 use noether::render::preset_accuracy::with_overrides;
+use noether_testkit::take::{self, rms_f64 as rms};
 use std::sync::Arc;
 
 const RATE: f64 = 48_000.0;
@@ -51,13 +52,7 @@ fn engine_tuned(sets: &[(ParamId, f32)], tuning: &KeyTuning) -> Engine {
 
 fn render(e: &mut Engine, seconds: f64) -> Vec<f64> {
     let n = (seconds * RATE) as usize / BLOCK * BLOCK;
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    let mut out = Vec::with_capacity(n);
-    while out.len() < n {
-        e.process(&mut l, &mut r);
-        out.extend(l.iter().map(|&x| f64::from(x)));
-    }
-    out
+    take::render(e, &[], n, BLOCK).left_f64()
 }
 
 /// The fundamental (Hz) of `x` near `f` (see the module doc).
@@ -219,11 +214,6 @@ fn note_expressions_tune_and_level_each_note() {
 /// `x`, Hann-windowed, with only its spectrum within 40 Hz of `f` kept (the estimator's mask).
 fn band(x: &[f64], f: f64) -> Vec<f64> {
     band_near(x, RATE, f, 40.0)
-}
-
-/// Root-mean-square of `x`.
-fn rms(x: &[f64]) -> f64 {
-    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
 
 /// The sustain pedal keeps a released note sounding at the string's own decay, and its

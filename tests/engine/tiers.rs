@@ -5,14 +5,11 @@
 use super::engine_with;
 use noether::engine::{Engine, ParamId, VoiceModelInfo};
 use noether::modal::{CircularEdge, CircularPlateSpec, ModalBasis, PlateModes};
+use noether_testkit::take::render_seconds;
 
 fn render(e: &mut Engine, seconds: f64) -> (Vec<f32>, Vec<f32>) {
-    let n = (seconds * e.host_rate()) as usize;
-    let (mut l, mut r) = (vec![0.0; n], vec![0.0; n]);
-    for (cl, cr) in l.chunks_mut(256).zip(r.chunks_mut(256)) {
-        e.process(cl, cr);
-    }
-    (l, r)
+    let t = render_seconds(e, &[], seconds, 256);
+    (t.left, t.right)
 }
 
 /// The model of the only sounding voice.

@@ -1,0 +1,72 @@
+//! The engine tests' one render loop and its measures: a [`Take`] is the stereo output of an
+//! engine over a number of host samples, with the events of the first block (a note, an
+//! expression) sent with that block, and its peak and RMS levels.
+//!
+//! Test thread (allocates the take; the engine's blocks themselves allocate nothing).
+
+use noether_core::engine::{Engine, Event};
+
+/// The stereo output of a render (host rate, the engine's output units).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Take {
+    /// Left channel.
+    pub left: Vec<f32>,
+    /// Right channel.
+    pub right: Vec<f32>,
+}
+
+/// Renders `samples` host samples of `e` in blocks of `block` (the last one shorter if
+/// `samples` is not a multiple), `first` sent with the first block.
+pub fn render(e: &mut Engine, first: &[Event], samples: usize, block: usize) -> Take {
+    let (mut left, mut right) = (vec![0.0f32; samples], vec![0.0f32; samples]);
+    for (k, (l, r)) in left
+        .chunks_mut(block.max(1))
+        .zip(right.chunks_mut(block.max(1)))
+        .enumerate()
+    {
+        e.process_events(if k == 0 { first } else { &[] }, l, r);
+    }
+    Take { left, right }
+}
+
+/// [`render`] of `seconds` at the engine's host rate (the sample count rounded down).
+pub fn render_seconds(e: &mut Engine, first: &[Event], seconds: f64, block: usize) -> Take {
+    let samples = (seconds * e.host_rate()) as usize;
+    render(e, first, samples, block)
+}
+
+impl Take {
+    /// The largest magnitude over both channels.
+    pub fn peak(&self) -> f32 {
+        peak(&self.left).max(peak(&self.right))
+    }
+
+    /// The left channel in `f64` (the analysis functions' input).
+    pub fn left_f64(&self) -> Vec<f64> {
+        self.left.iter().map(|&x| f64::from(x)).collect()
+    }
+
+    /// Left plus right in `f64` (the sum of both pickups).
+    pub fn sum_f64(&self) -> Vec<f64> {
+        self.left
+            .iter()
+            .zip(&self.right)
+            .map(|(a, b)| f64::from(a + b))
+            .collect()
+    }
+}
+
+/// The largest magnitude of `x` (0 for an empty slice).
+pub fn peak(x: &[f32]) -> f32 {
+    x.iter().fold(0.0f32, |m, v| m.max(v.abs()))
+}
+
+/// The root mean square of `x` (NaN for an empty slice).
+pub fn rms(x: &[f32]) -> f64 {
+    (x.iter().map(|&v| f64::from(v).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// The root mean square of `x` (NaN for an empty slice).
+pub fn rms_f64(x: &[f64]) -> f64 {
+    (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
+}
