@@ -102,7 +102,7 @@ pub mod excitation;
 pub mod extension;
 pub mod half_step;
 pub mod hand;
-mod lanes;
+mod partial_sums;
 mod linalg;
 pub mod mallet;
 pub mod mallet_heads;

@@ -18,7 +18,7 @@ use super::energy::PlateEnergy;
 use super::excitation::{PickupKind, PickupWeights};
 use super::half_step::StepBoard;
 use super::hand::Hand;
-use super::lanes::{all_finite, lane_sum};
+use super::partial_sums::{all_finite, lane_sum};
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::sav::SavStep;

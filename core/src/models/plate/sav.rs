@@ -83,7 +83,7 @@
 
 use super::coupling::ModalCoupling;
 use super::half_step::{HalfJob, StepBoard};
-use super::lanes::{lane_sum, lane_sums};
+use super::partial_sums::{lane_sum, lane_sums};
 use super::linalg::dot;
 use super::step_join::StepJoin;
 use crate::models::sav_relaxation::{relax, RelaxationLedger, SavRelaxation};

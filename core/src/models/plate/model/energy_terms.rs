@@ -3,7 +3,7 @@
 
 use super::PlateModel;
 use crate::models::plate::coupling::ModalCoupling;
-use crate::models::plate::lanes::lane_sums;
+use crate::models::plate::partial_sums::lane_sums;
 
 impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// Adds this step's dissipated energy and external work (uses `q(n+1)`, `q(n-1)`), with
