@@ -130,6 +130,23 @@ CRATES = [
         ],
     ),
     ("noether-plugin (bin)", "plugin/src/main.rs", []),
+    (
+        "noether-test-host",
+        "plugin/test-host/src/main.rs",
+        [
+            # args: the usage text and option readers; host: the CLAP plumbing; testwav: the
+            # test signals.
+            ["args", "host", "testwav"],
+            # The checks and sessions built on an instance.
+            ["check", "conform_render", "hostile", "state_load"],
+            # compare: WAV comparison; host_render: the `render` command; runner: the
+            # conformance cases' counter; expression_setup: the expression cases' set-up.
+            ["compare", "expression_setup", "host_render", "runner"],
+            ["conform_params", "polymod"],
+            ["conform_live", "expression"],
+            ["conform"],
+        ],
+    ),
 ]
 
 ITEM_KEYWORDS = {"fn", "struct", "enum", "union", "trait", "type", "const", "static"}

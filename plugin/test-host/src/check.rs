@@ -2,7 +2,7 @@
 //! and the JACK recording of the standalone): finite, at most 0 dBFS, non-silent, still sounding
 //! at the note-off, decaying after it.
 
-use crate::{parse_num, path_arg};
+use crate::args::{parse_num, path_arg};
 use std::path::PathBuf;
 
 /// Options of `check`.

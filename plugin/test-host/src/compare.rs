@@ -15,8 +15,8 @@
 //! and its neighbours (Gaussian interpolation, within a few hundredths of a bin for a Hann
 //! window).
 
+use crate::args::{parse_num, path_arg};
 use crate::check::read_wav;
-use crate::{parse_num, path_arg};
 use rustfft::num_complex::Complex;
 use rustfft::FftPlanner;
 use std::path::PathBuf;

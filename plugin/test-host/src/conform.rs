@@ -32,10 +32,11 @@ use clack_host::events::event_types::ParamValueEvent;
 use clack_host::prelude::*;
 use std::path::PathBuf;
 
+use crate::args::{parse_num, path_arg};
 use crate::conform_render::{
     process_cpu_seconds, read_values, render, set_values, RenderSpec, Rendered, Rng, Session,
 };
-use crate::{parse_num, path_arg};
+use crate::runner::Runner;
 
 /// Host rates of the `rate` cases, Hz: clap-validator's fractional 1234.57 Hz (refused before
 /// any positive rate activated), the telephone and low rates, the CD and video families and
@@ -112,32 +113,6 @@ impl ConformOptions {
 
     fn runs(&self, group: &str) -> bool {
         self.only.is_empty() || self.only.iter().any(|g| g == group)
-    }
-}
-
-/// Counts the cases and prints each one's line.
-#[derive(Debug, Default)]
-pub(crate) struct Runner {
-    passed: usize,
-    failed: Vec<String>,
-}
-
-impl Runner {
-    /// Runs one case and prints `PASS name: figures [CPU]` or `FAIL name: why [CPU]`.
-    pub(crate) fn case(&mut self, name: &str, f: impl FnOnce() -> Result<String, String>) {
-        let c0 = process_cpu_seconds();
-        let r = f();
-        let cpu = process_cpu_seconds() - c0;
-        match r {
-            Ok(figures) => {
-                self.passed += 1;
-                println!("PASS {name}: {figures} [{cpu:.2} s CPU]");
-            }
-            Err(why) => {
-                self.failed.push(name.to_string());
-                println!("FAIL {name}: {why} [{cpu:.2} s CPU]");
-            }
-        }
     }
 }
 

@@ -19,10 +19,10 @@ use clack_host::events::event_types::{NoteOffEvent, NoteOnEvent, ParamModEvent, 
 use clack_host::prelude::*;
 use std::time::Instant;
 
-use crate::conform::Runner;
 use crate::conform_params::clap_value;
 use crate::conform_render::{set_values, Rng, Session};
 use crate::host::{activate_started, new_realtime_instance, process_stereo, Started, TestHost};
+use crate::runner::Runner;
 
 /// Bound of the 99th percentile of `activate()`'s wall time (s).
 const ACTIVATE_P99: f64 = 0.020;

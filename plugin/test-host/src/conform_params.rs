@@ -14,11 +14,11 @@ use clack_extensions::params::PluginParams;
 use clack_host::prelude::*;
 use std::ffi::CString;
 
-use crate::conform::Runner;
 use crate::conform_render::{
     load_state, read_values, render, save_state, set_values, RenderSpec, Rng, Session,
 };
 use crate::host::{text_of, TestHost};
+use crate::runner::Runner;
 
 /// Render length of the parameter cases, seconds.
 const SHORT: f64 = 0.1;

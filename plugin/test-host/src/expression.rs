@@ -50,14 +50,11 @@ use rustfft::{num_complex::Complex, FftPlanner};
 use std::f64::consts::PI;
 use std::path::PathBuf;
 
-use crate::conform_render::{load_state, Session};
-use crate::host::{activate_started, process_stereo, Started};
-use crate::path_arg;
+use crate::args::path_arg;
+use crate::conform_render::Session;
+use crate::expression_setup::{started, Break, BLOCK, RATE};
+use crate::host::process_stereo;
 
-/// Host rate of the renders (Hz).
-pub(crate) const RATE: f64 = 48_000.0;
-/// Block size (frames).
-pub(crate) const BLOCK: usize = 256;
 /// Length of each render (s).
 const SECONDS: f64 = 2.0;
 /// Half-width of the band mask (Hz): the string's partials are 196 Hz apart, the two notes'
@@ -77,25 +74,6 @@ const GLOBAL_RANGE: f64 = 2.0;
 /// The closed-form fundamental of the state's string at its root key (Hz).
 fn f1() -> f64 {
     (180.5f64 / 1.17e-3).sqrt() / 2.0
-}
-
-/// What `--break` leaves out.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Break {
-    /// The CLAP tuning expressions.
-    Tuning,
-    /// The CLAP volume expression.
-    Volume,
-    /// The MPE Configuration Message.
-    MpeConfig,
-    /// The member-channel bends.
-    MemberBend,
-    /// The polyphonic modulation (`polymod.rs`).
-    PolyMod,
-    /// The note-offs (`polymod.rs`: no note may end).
-    NoteOff,
-    /// The CLAP pressure expression (`polymod.rs`).
-    Pressure,
 }
 
 /// Options of `expression`.
@@ -164,14 +142,6 @@ fn bend(channel: u8, raw: u16) -> MidiEvent {
 fn bend_value(raw: u16) -> f64 {
     let v = f64::from(raw) - 8192.0;
     v / if v < 0.0 { 8192.0 } else { 8191.0 }
-}
-
-/// A fresh instance of `s` with `blob` loaded, activated at [`RATE`] for blocks of 1 to
-/// [`BLOCK`] frames and processing (the `expression` cases' set-up).
-pub(crate) fn started(s: &Session, blob: &[u8]) -> Result<Started, String> {
-    let mut inst = s.instance()?;
-    load_state(&mut inst, blob)?;
-    activate_started(inst, RATE, BLOCK as u32)
 }
 
 /// Renders `SECONDS` of a fresh instance with `blob` loaded and `events` at frame 0; returns

@@ -11,6 +11,7 @@
 //! Everything runs on the main thread: the host calls `process` itself, block after block, which
 //! is what an offline bounce in a DAW does.
 
+mod args;
 mod check;
 mod compare;
 mod conform;
@@ -18,21 +19,23 @@ mod conform_live;
 mod conform_params;
 mod conform_render;
 mod expression;
+mod expression_setup;
 mod host;
+mod host_render;
 mod hostile;
 mod polymod;
+mod runner;
 mod state_load;
 #[cfg(test)]
 mod testwav;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 /// Command line of the test host.
 #[derive(Debug)]
 enum Command {
     /// `render PLUGIN.clap OUT.wav [options]`.
-    Render(host::RenderOptions),
+    Render(host_render::RenderOptions),
     /// `check FILE.wav --note-off SECONDS [--from-onset] [--min-peak X] [--max-peak X]
     /// [--min-level X]`.
     Check(check::CheckOptions),
@@ -45,20 +48,12 @@ enum Command {
     Expression(expression::ExpressionOptions),
 }
 
-fn usage() -> &'static str {
-    "usage:\n  noether-test-host render PLUGIN.clap OUT.wav [--rate HZ] [--block N] [--seconds S]\n      \
-     [--note-off S] [--key K]... [--velocity V] [--set NAME=VALUE]... [--state-roundtrip] [--hostile-automation]\n      \
-     [--load-state FILE [--expect-load ok|refused] [--expect NAME=VALUE]...]\n  \
-     noether-test-host check FILE.wav --note-off S [--from-onset] [--min-peak X] [--max-peak X] [--min-level X]\n  \
-     noether-test-host compare A.wav B.wav [--seconds S] [--max-freq HZ] [--max-level-db X] [--max-lsd-db X] [--max-cents X]\n  \
-     noether-test-host conform PLUGIN.clap [--seed N] [--permutations N] [--only GROUP[,GROUP...]]\n  \
-     noether-test-host expression PLUGIN.clap STATE [--out DIR] [--break tuning|volume|mpe-config|member-bend|poly-mod|note-off|pressure]"
-}
+use args::usage;
 
 fn parse_args(args: &[String]) -> Result<Command, String> {
     let (cmd, rest) = args.split_first().ok_or_else(|| usage().to_string())?;
     match cmd.as_str() {
-        "render" => host::RenderOptions::parse(rest).map(Command::Render),
+        "render" => host_render::RenderOptions::parse(rest).map(Command::Render),
         "check" => check::CheckOptions::parse(rest).map(Command::Check),
         "compare" => compare::CompareOptions::parse(rest).map(Command::Compare),
         "conform" => conform::ConformOptions::parse(rest).map(Command::Conform),
@@ -67,28 +62,10 @@ fn parse_args(args: &[String]) -> Result<Command, String> {
     }
 }
 
-/// Parses `value` for option `name` as a number, naming both on failure.
-pub(crate) fn parse_num<T: std::str::FromStr>(
-    name: &str,
-    value: Option<&String>,
-) -> Result<T, String> {
-    let value = value.ok_or_else(|| format!("{name} needs a value"))?;
-    value
-        .parse()
-        .map_err(|_| format!("{name}: `{value}` is not a valid number"))
-}
-
-/// Returns a path argument.
-pub(crate) fn path_arg(name: &str, value: Option<&String>) -> Result<PathBuf, String> {
-    value
-        .map(PathBuf::from)
-        .ok_or_else(|| format!("missing {name}\n{}", usage()))
-}
-
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = parse_args(&args).and_then(|cmd| match cmd {
-        Command::Render(opts) => host::render(&opts),
+        Command::Render(opts) => host_render::render(&opts),
         Command::Check(opts) => check::check(&opts),
         Command::Compare(opts) => compare::compare(&opts),
         Command::Conform(opts) => conform::conform(&opts),

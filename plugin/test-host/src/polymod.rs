@@ -33,7 +33,7 @@ use clack_host::prelude::*;
 use std::f64::consts::PI;
 
 use crate::conform_render::Session;
-use crate::expression::{started, Break, BLOCK, RATE};
+use crate::expression_setup::{started, Break, BLOCK, RATE};
 use crate::host::process_stereo;
 
 /// Note-offs at this time (s); the render ends 1 s later.

@@ -83,8 +83,8 @@
 
 use super::coupling::ModalCoupling;
 use super::half_step::{HalfJob, StepBoard};
-use super::partial_sums::{lane_sum, lane_sums};
 use super::linalg::dot;
+use super::partial_sums::{lane_sum, lane_sums};
 use super::step_join::StepJoin;
 use crate::models::sav_relaxation::{relax, RelaxationLedger, SavRelaxation};
 use std::sync::Arc;
