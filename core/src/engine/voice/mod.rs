@@ -25,6 +25,7 @@
 //! thread without allocating.
 
 mod above;
+mod body;
 mod hand;
 mod mallet;
 mod mapping;
@@ -50,13 +51,32 @@ pub(crate) use string::StringVoice;
 use super::params::ParamId;
 use super::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::models::source::EnergyTerms;
+pub(crate) use body::VoiceBody;
 use modulation::NoteOverrides;
-use strike::{commit_plate, commit_string, PendingStrike};
+use strike::PendingStrike;
 
-/// The model of a voice.
+/// The model of a voice: a plate or a string, each a [`VoiceBody`].
 pub(crate) enum VoiceModel {
     Plate(Box<PlateVoice>),
     String(Box<StringVoice>),
+}
+
+impl VoiceModel {
+    /// The model as the lifecycle the engine drives.
+    pub fn body(&mut self) -> &mut dyn VoiceBody {
+        match self {
+            Self::Plate(pv) => pv.as_mut(),
+            Self::String(sv) => sv.as_mut(),
+        }
+    }
+
+    /// The model as the lifecycle the engine drives, to read.
+    pub fn body_ref(&self) -> &dyn VoiceBody {
+        match self {
+            Self::Plate(pv) => pv.as_ref(),
+            Self::String(sv) => sv.as_ref(),
+        }
+    }
 }
 
 /// One voice of the pool.
@@ -134,19 +154,13 @@ impl Voice {
     /// The CPU governor's price of one step of the voice's current model (s;
     /// `engine/governor.rs`): its plate tier's or its string's. Audio thread.
     pub fn price(&self) -> f64 {
-        match &self.model {
-            VoiceModel::Plate(pv) => pv.price(),
-            VoiceModel::String(sv) => sv.price,
-        }
+        self.model.body_ref().price()
     }
 
     /// Whether the model of the voice's current note offers the second half of its steps to
     /// the voice pool's workers (a plate tier with a large coupling tensor). Audio thread.
     pub fn offers_step_halves(&self) -> bool {
-        match &self.model {
-            VoiceModel::Plate(pv) => pv.model().offers_step_halves(),
-            _ => false,
-        }
+        self.model.body_ref().offers_step_halves()
     }
 
     /// Whether the voice is in its release (key up and not sustained).
@@ -165,10 +179,9 @@ impl Voice {
         self.dirty = false;
         self.level = key_level_gain(&p.values, self.key);
         let released = self.released();
-        match &mut self.model {
-            VoiceModel::Plate(pv) => pv.retune(p, self.key, self.note_tuning, released),
-            VoiceModel::String(sv) => sv.retune(p, self.key, self.note_tuning, released),
-        }
+        self.model
+            .body()
+            .retune(p, self.key, self.note_tuning, released)
     }
 
     /// Starts note `key` at velocity `vel` (0..1] with mod wheel `wheel` (0..1). A voice
@@ -190,9 +203,7 @@ impl Voice {
         let fresh = !same || self.pending.is_some_and(|s| s.fresh);
         if !same {
             self.reset();
-            if let VoiceModel::Plate(pv) = &mut self.model {
-                pv.begin(p, key);
-            }
+            self.model.body().begin(p, key);
         }
         self.key = key;
         self.held = true;
@@ -226,21 +237,12 @@ impl Voice {
             return true;
         };
         let v = self.overrides.apply(s.values);
-        match &mut self.model {
-            VoiceModel::Plate(pv) => commit_plate(pv, &s, v, self.note_brightness),
-            VoiceModel::String(sv) => commit_string(sv, &s, v, self.note_brightness),
-        }
+        self.model.body().strike(&s, v, self.note_brightness)
     }
 
     /// Silences the voice (state at rest) and frees it. No allocation.
     pub fn reset(&mut self) {
-        match &mut self.model {
-            VoiceModel::Plate(pv) => pv.reset(),
-            VoiceModel::String(sv) => {
-                sv.model.reset();
-                sv.cap_hits_seen = 0;
-            }
-        }
+        self.model.body().reset();
         self.active = false;
         self.held = false;
         self.sustained = false;
@@ -258,28 +260,7 @@ impl Voice {
             return false;
         }
         self.apply_pressure();
-        match &mut self.model {
-            VoiceModel::Plate(pv) => {
-                if !pv.run(left, right, gain) {
-                    return false;
-                }
-            }
-            VoiceModel::String(sv) => {
-                for (l, r) in left.iter_mut().zip(right.iter_mut()) {
-                    sv.model.step();
-                    let (mut a, mut b) = (0.0, 0.0);
-                    sv.model
-                        .read_outputs(|c, x| if c == 0 { a = x } else { b = x });
-                    let (a, b) = (gain * a, gain * b);
-                    if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
-                        return false;
-                    }
-                    *l += a as f32;
-                    *r += b as f32;
-                }
-            }
-        }
-        true
+        self.model.body().run(left, right, gain)
     }
 
     /// Runs the band above the simulation of a plate voice for `left.len()` samples at the bank's above rate
@@ -287,90 +268,47 @@ impl Voice {
     /// `false` past [`super::VOICE_CEILING`]. Strings have none (O(1)). Audio thread or the
     /// voice's job; no allocation.
     pub fn run_above(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
-        match &mut self.model {
-            VoiceModel::Plate(pv) => pv.run_above(left, right, gain),
-            VoiceModel::String(_) => true,
-        }
+        self.model.body().run_above(left, right, gain)
     }
 
     /// The note's hand pressure on its model (a point damper, see [`HAND_T60`]): O(1), no
     /// allocation, audio thread.
     fn apply_pressure(&mut self) {
         let p = self.note_pressure as f64;
-        match &mut self.model {
-            VoiceModel::Plate(pv) => pv.set_pressure(p),
-            VoiceModel::String(sv) => sv.set_pressure(p),
-        }
+        self.model.body().set_pressure(p);
     }
 
     /// What the voice simulates for its current note (see [`VoiceModelInfo`]). Audio thread,
     /// O(N_Φ), no allocation.
     pub fn model_info(&self) -> VoiceModelInfo {
-        match &self.model {
-            VoiceModel::Plate(pv) => pv.model_info(),
-            VoiceModel::String(sv) => {
-                let params = sv.model.params();
-                let n = sv.model.modal_displacement().len();
-                VoiceModelInfo {
-                    n_phi: n as u32,
-                    n_psi: 0,
-                    top_mode_hz: (params.omega(n) / std::f64::consts::TAU) as f32,
-                    sim_rate: params.sample_rate as f32,
-                    ..VoiceModelInfo::default()
-                }
-            }
-        }
+        self.model.body_ref().model_info()
     }
 
     /// Whether an excitation force is still being applied (a pulse, or a mallet in flight).
     pub fn exciting(&self) -> bool {
-        match &self.model {
-            _ if self.pending.is_some() => true,
-            VoiceModel::Plate(pv) => pv.strike.is_some() || pv.mallet.live(),
-            VoiceModel::String(_) => false,
-        }
+        self.pending.is_some() || self.model.body_ref().exciting()
     }
 
     /// Energy terms of the voice (J).
     pub fn energy_terms(&self) -> EnergyTerms {
-        match &self.model {
-            VoiceModel::Plate(pv) => pv.energy_terms(),
-            VoiceModel::String(sv) => sv.model.energy_terms(),
-        }
+        self.model.body_ref().energy_terms()
     }
 
     /// The energy (J) that measures how loud the voice still is, for its end and for voice
-    /// stealing: kinetic plus linear potential plus, for strings, the contact energy. A plate's
-    /// nonlinear term is left out: under the SAV scheme it is the auxiliary `ψ²/2`, which
-    /// keeps an `O(h²)` residue after the motion has died away, while the physical quartic
-    /// energy vanishes faster than the linear one as `q → 0`.
+    /// stealing ([`VoiceBody::level_energy`]: a string's total energy, a plate's kinetic and
+    /// linear potential energy).
     pub fn level_energy(&self) -> f64 {
-        let e = self.energy_terms();
-        match &self.model {
-            VoiceModel::Plate(_) => e.kinetic + e.linear,
-            VoiceModel::String(_) => e.total(),
-        }
+        self.model.body_ref().level_energy()
     }
 
     /// Mallet contacts begun since the last call (plates with the mallet; 0 otherwise).
     pub fn take_impacts(&mut self) -> u64 {
-        match &mut self.model {
-            VoiceModel::Plate(pv) => u64::from(pv.mallet.take_impacts()),
-            VoiceModel::String(_) => 0,
-        }
+        self.model.body().take_impacts()
     }
 
     /// Newton cap hits since the last call (strings; 0 for plates).
     pub fn take_cap_hits(&mut self) -> u64 {
-        match &mut self.model {
-            VoiceModel::Plate(_) => 0,
-            VoiceModel::String(sv) => {
-                let total = sv.model.contact_stats().cap_hits;
-                let d = total.saturating_sub(sv.cap_hits_seen);
-                sv.cap_hits_seen = total;
-                d
-            }
-        }
+        self.model.body().take_cap_hits()
     }
 
     /// Writes the displacement snapshot (m), the lowest mode frequencies (Hz) and `|q_s|`.
@@ -382,26 +320,6 @@ impl Voice {
     ) {
         freq.fill(0.0);
         amp.fill(0.0);
-        match &mut self.model {
-            VoiceModel::Plate(pv) => pv.snapshot(disp, freq, amp),
-            VoiceModel::String(sv) => {
-                let u = sv.model.grid_displacement();
-                let n = u.len() + 1; // intervals
-                for (p, d) in disp.iter_mut().enumerate() {
-                    // Node position x = (p + 1) / (P + 1) of the length, interpolated.
-                    let xi = (p + 1) as f64 / (SNAPSHOT_POINTS + 1) as f64 * n as f64;
-                    let i = xi.floor() as usize;
-                    let w = xi - i as f64;
-                    let at = |k: usize| if k == 0 || k >= n { 0.0 } else { u[k - 1] };
-                    *d = ((1.0 - w) * at(i) + w * at(i + 1)) as f32;
-                }
-                let q = sv.model.modal_displacement();
-                let params = sv.model.params();
-                for j in 0..q.len().min(SPECTRUM_MODES) {
-                    freq[j] = (params.omega(j + 1) / std::f64::consts::TAU) as f32;
-                    amp[j] = q[j].abs() as f32;
-                }
-            }
-        }
+        self.model.body().snapshot(disp, freq, amp);
     }
 }
