@@ -86,6 +86,7 @@ fn int_slot(info: &ParamInfo) -> IntParam {
         max: info.max as i32,
     };
     let p = IntParam::new(info.name, info.default as i32, range);
+    let id = info.id;
     match info.kind {
         ParamKind::Enum { names, .. } => p
             .with_value_to_string(Arc::new(move |v| {
@@ -93,20 +94,18 @@ fn int_slot(info: &ParamInfo) -> IntParam {
                     .get(v.max(0) as usize)
                     .map_or_else(|| v.to_string(), |s| (*s).to_string())
             }))
+            // A display name or a preset key (the table's one lookup), or the index.
             .with_string_to_value(Arc::new(move |s| {
-                names
-                    .iter()
-                    .position(|n| n.eq_ignore_ascii_case(s.trim()))
+                id.info()
+                    .enum_index(s)
                     .map(|i| i as i32)
                     .or_else(|| s.trim().parse().ok())
             })),
-        _ => {
-            let id = info.id;
-            p.with_value_to_string(Arc::new(move |v| format_value(id, v as f32)))
-                .with_string_to_value(Arc::new(move |s| {
-                    parse_value(id, s).map(|v| v.round() as i32)
-                }))
-        }
+        _ => p
+            .with_value_to_string(Arc::new(move |v| format_value(id, v as f32)))
+            .with_string_to_value(Arc::new(move |s| {
+                parse_value(id, s).map(|v| v.round() as i32)
+            })),
     }
 }
 

@@ -30,7 +30,6 @@
 
 use crate::bypass::PLUGIN_ONLY_KEYS;
 use nice_plug::plugin::{ParamValue, PluginState};
-use noether_core::engine::preset::enum_keys;
 use noether_core::engine::{
     legacy_bridge_fraction, ParamId, ParamInfo, ParamKind, LEGACY_BRIDGE_POSITION, PARAMS,
 };
@@ -169,18 +168,7 @@ fn number_of(info: &ParamInfo, v: &ParamValue) -> (Option<f64>, bool) {
             (Some(f64::from(*x)), false)
         }
         (ParamValue::String(s), true) => {
-            let by_name = match info.kind {
-                ParamKind::Enum { names, .. } => names
-                    .iter()
-                    .position(|n| n.eq_ignore_ascii_case(s.trim()))
-                    .or_else(|| {
-                        enum_keys(info.id)?
-                            .iter()
-                            .position(|n| n.eq_ignore_ascii_case(s.trim()))
-                    })
-                    .map(|i| i as f64),
-                _ => None,
-            };
+            let by_name = info.enum_index(s).map(|i| i as f64);
             (
                 by_name.or_else(|| s.trim().parse::<i32>().ok().map(f64::from)),
                 false,
@@ -220,10 +208,7 @@ fn migrate_bridge(state: &mut PluginState, issues: &mut Vec<StateIssue>) {
         Some(ParamValue::I32(i)) => Some(f64::from(*i)),
         _ => None,
     };
-    let size = ParamId::Size.info();
-    let length = number(state.params.get(size.key))
-        .filter(|l| l.is_finite() && *l > 0.0)
-        .unwrap_or(f64::from(size.default));
+    let length = number(state.params.get(ParamId::Size.info().key));
     match number(Some(&old)) {
         Some(metres) if !state.params.contains_key(new.key) => {
             let converted = legacy_bridge_fraction(metres, length);

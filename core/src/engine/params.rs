@@ -315,6 +315,21 @@ impl ParamId {
 }
 
 impl ParamInfo {
+    /// The index of the enumeration value named `name`: its preset key (exactly, then
+    /// ignoring case) or its display name (ignoring case), surrounding spaces ignored; `None`
+    /// for other names and for parameters that are not enumerations. The one name lookup of
+    /// presets, plugin states and typed values.
+    pub fn enum_index(&self, name: &str) -> Option<usize> {
+        let ParamKind::Enum { names, keys } = self.kind else {
+            return None;
+        };
+        let name = name.trim();
+        keys.iter()
+            .position(|k| *k == name)
+            .or_else(|| keys.iter().position(|k| k.eq_ignore_ascii_case(name)))
+            .or_else(|| names.iter().position(|n| n.eq_ignore_ascii_case(name)))
+    }
+
     /// Checks `value` against this row: finite, within `[min, max]`, integral for integer
     /// and enumeration parameters. Any thread; no allocation on success.
     pub fn check(&self, value: f32) -> Result<f32, ParamError> {
@@ -540,6 +555,20 @@ mod tests {
                 assert_eq!(keys.len(), names.len(), "{}", p.key);
             }
         }
+    }
+
+    /// Enumeration names: the preset key exactly, then ignoring case, then the display name
+    /// ignoring case; anything else, and non-enumerations, give nothing.
+    #[test]
+    fn enumeration_names_are_looked_up_once() {
+        let model = ParamId::Model.info();
+        assert_eq!(model.enum_index("rect-plate"), Some(2));
+        assert_eq!(model.enum_index(" Tanpura "), Some(4));
+        assert_eq!(model.enum_index("GONG (circular, free edge)"), Some(0));
+        assert_eq!(model.enum_index("harp"), None);
+        assert_eq!(ParamId::Scheme.info().enum_index("sav"), Some(3));
+        assert_eq!(ParamId::Exciter.info().enum_index("mallet"), Some(1));
+        assert_eq!(ParamId::Size.info().enum_index("gong"), None);
     }
 
     #[test]

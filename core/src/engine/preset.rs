@@ -56,8 +56,13 @@ pub fn enum_keys(id: ParamId) -> Option<&'static [&'static str]> {
 /// stored its position or extent, in metres; read as `bridge_fraction = value / size`.
 pub const LEGACY_BRIDGE_POSITION: &str = "bridge_position";
 
-/// `bridge_fraction` for a legacy bridge position of `metres` on a string `length` m long.
-pub fn legacy_bridge_fraction(metres: f64, length: f64) -> f64 {
+/// `bridge_fraction` for a legacy bridge position of `metres` on a string `length` m long
+/// (the saved `size`; missing, not finite or not positive: the table's default size). The one
+/// migration of the legacy field, for presets and plugin states alike.
+pub fn legacy_bridge_fraction(metres: f64, length: Option<f64>) -> f64 {
+    let length = length
+        .filter(|l| l.is_finite() && *l > 0.0)
+        .unwrap_or(f64::from(ParamId::Size.info().default));
     metres / length
 }
 
@@ -166,7 +171,7 @@ impl Preset {
                     let names = enum_keys(id).ok_or_else(|| {
                         ParamError::new(format!("params.{key}"), name, "a number")
                     })?;
-                    names.iter().position(|n| n == name).ok_or_else(|| {
+                    info.enum_index(name).ok_or_else(|| {
                         ParamError::new(format!("params.{key}"), name, format!("one of {names:?}"))
                     })? as f32
                 }
@@ -177,7 +182,7 @@ impl Preset {
         }
         if let (Some(metres), false) = (legacy_bridge, self.params.contains_key("bridge_fraction"))
         {
-            let fraction = legacy_bridge_fraction(metres, v.get(ParamId::Size) as f64);
+            let fraction = legacy_bridge_fraction(metres, Some(v.get(ParamId::Size) as f64));
             let info = ParamId::BridgePosition.info();
             let x = info.check(fraction as f32).map_err(|e| {
                 ParamError::new(
