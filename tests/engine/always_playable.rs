@@ -9,6 +9,7 @@
 //! full ranges are built by the tier and preset tests.
 
 use noether::engine::{Engine, ParamId, ParamKind, ParamValues, SharedParams, PARAMS};
+use noether_testkit::take;
 use std::sync::Arc;
 
 /// The host rates the published plugin validators try (Hz).
@@ -42,13 +43,10 @@ fn play(v: &ParamValues, rate: f64, seconds: f64, what: &str) -> f32 {
     }
     // The root key: the model at its nominal parameters (other keys rescale them).
     e.note_on(v.get(ParamId::RootKey) as u8, 1.0);
-    let n = (seconds * rate) as usize;
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (cl, cr) in l.chunks_mut(256).zip(r.chunks_mut(256)) {
-        e.process(cl, cr);
-    }
+    let t = take::render(&mut e, &[], (seconds * rate) as usize, 256);
+    let (l, r) = (&t.left, &t.right);
     assert!(
-        l.iter().chain(&r).all(|x| x.is_finite()),
+        l.iter().chain(r).all(|x| x.is_finite()),
         "{what}: non-finite output"
     );
     // A note the model refuses (coefficients out of its stability region) is silence. The
@@ -58,7 +56,7 @@ fn play(v: &ParamValues, rate: f64, seconds: f64, what: &str) -> f32 {
     if v.index_of(ParamId::Scheme) != 0 || what.contains("theta") {
         assert_eq!(e.refused_notes(), 0, "{what}: the note was refused");
     }
-    l.iter().chain(&r).fold(0.0f32, |m, x| m.max(x.abs()))
+    t.peak()
 }
 
 /// A small deterministic generator (xorshift64*), so a failing draw can be replayed.

@@ -15,6 +15,7 @@
 //! chord and the velocity-1 notes must not be refused at all.
 
 use noether::engine::{Engine, ParamId, Preset, SharedParams, CEILING, MAX_VOICES};
+use noether_testkit::take;
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -41,7 +42,7 @@ const FLOOR_DB: f64 = -80.0;
 const EXTREME_KEYS: [u8; 4] = [0, 21, 108, 127];
 
 /// What one render gave.
-struct Take {
+struct Played {
     /// Largest `|sample|` (full scale 1).
     peak: f32,
     /// Whether every sample was finite.
@@ -52,7 +53,7 @@ struct Take {
     refused: u64,
 }
 
-impl Take {
+impl Played {
     fn db(&self) -> f64 {
         20.0 * f64::from(self.peak).max(1e-12).log10()
     }
@@ -73,34 +74,25 @@ fn engine(preset: &Preset) -> Engine {
 
 /// Plays `keys` together at `velocity` (0..1) with the mod wheel at `wheel` for `seconds`,
 /// from rest (`Engine::reset`: voices, resampler and output stage cleared).
-fn play(e: &mut Engine, keys: &[u8], velocity: f32, wheel: f32, seconds: f64) -> Take {
+fn play(e: &mut Engine, keys: &[u8], velocity: f32, wheel: f32, seconds: f64) -> Played {
     e.reset();
     let (guarded, refused) = (e.guarded_samples(), e.refused_notes());
     e.mod_wheel(wheel);
     for &k in keys {
         e.note_on(k, velocity);
     }
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    let mut take = Take {
-        peak: 0.0,
-        finite: true,
-        guarded: 0,
-        refused: 0,
-    };
-    for _ in 0..(seconds * RATE) as usize / BLOCK {
-        e.process(&mut l, &mut r);
-        for &x in l.iter().chain(&r) {
-            take.finite &= x.is_finite();
-            take.peak = take.peak.max(x.abs());
-        }
+    let t = take::render(e, &[], (seconds * RATE) as usize / BLOCK * BLOCK, BLOCK);
+    let all = || t.left.iter().chain(&t.right);
+    Played {
+        peak: all().fold(0.0f32, |m, x| m.max(x.abs())),
+        finite: all().all(|x| x.is_finite()),
+        guarded: e.guarded_samples() - guarded,
+        refused: e.refused_notes() - refused,
     }
-    take.guarded = e.guarded_samples() - guarded;
-    take.refused = e.refused_notes() - refused;
-    take
 }
 
 /// The checks every render shares; `what` names it in the failures.
-fn bounded(what: &str, t: &Take, failures: &mut Vec<String>) {
+fn bounded(what: &str, t: &Played, failures: &mut Vec<String>) {
     if !t.finite {
         failures.push(format!("{what}: non-finite output"));
     }
