@@ -10,7 +10,7 @@
 //! back: the error accumulates over every strike a voice receives. When the plate comes to
 //! rest `ψ` stays wherever the drift left it, and the force `-μ_{t.}ψ g(q)` (with `g` of degree
 //! 1 in `q`) acts as an extra linear stiffness on a plate at rest: a soft strike after a
-//! minute of rolls sounds like another instrument (issue 29: the 80 N gong's soft strike moved
+//! minute of rolls sounds like another instrument (measured: the 80 N gong's soft strike moved
 //! from 72 Hz to a 2.5 kHz centroid after 240 strikes).
 //!
 //! # The relaxation (after Jiang, Zhang, Zhao, "Improving the accuracy and consistency of the
