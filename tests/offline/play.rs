@@ -220,16 +220,45 @@ fn scala_files_tune_the_keys() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A note on or off of `key` at velocity `vel` on MIDI channel 0.
 fn midi_note(on: bool, key: u8, vel: u8) -> TrackEventKind<'static> {
+    channel_note(0, on, key, vel)
+}
+
+/// A note on or off of `key` at velocity `vel` on MIDI channel `ch` (0-based).
+fn channel_note(ch: u8, on: bool, key: u8, vel: u8) -> TrackEventKind<'static> {
     let (key, vel) = (u7::new(key), u7::new(vel));
-    TrackEventKind::Midi {
-        channel: u4::new(0),
-        message: if on {
+    on_channel(
+        ch,
+        if on {
             MidiMessage::NoteOn { key, vel }
         } else {
             MidiMessage::NoteOff { key, vel }
         },
-    }
+    )
+}
+
+/// Saves `smf` as `DIR/STEM.mid` and plays it on `preset` with `noether play --midi` (a
+/// 0.1 s tail) into `DIR/STEM.wav` (and its report `DIR/STEM.json`); panics with the
+/// command's stderr if it fails. Returns the WAV's path.
+fn play_midi_file(preset: &str, smf: &Smf, dir: &std::path::Path, stem: &str) -> PathBuf {
+    let mid = dir.join(format!("{stem}.mid"));
+    smf.save(&mid).unwrap();
+    let wav = dir.join(format!("{stem}.wav"));
+    let out = noether(&[
+        "play",
+        preset,
+        "--midi",
+        mid.to_str().unwrap(),
+        "--tail",
+        "0.1",
+        "-q",
+        "-o",
+        wav.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    wav
 }
 
 /// A MIDI file written with midly (format 1: a tempo track and a note track; 96 ticks per
@@ -265,22 +294,7 @@ fn midi_file_round_trip() {
         header: Header::new(Format::Parallel, Timing::Metrical(u15::new(96))),
         tracks: vec![tempo, notes],
     };
-    let mid = dir.join("two.mid");
-    smf.save(&mid).unwrap();
-    let wav = dir.join("two.wav");
-    let out = noether(&[
-        "play",
-        "gong-40N",
-        "--midi",
-        mid.to_str().unwrap(),
-        "--tail",
-        "0.1",
-        "-q",
-        "-o",
-        wav.to_str().unwrap(),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
+    let wav = play_midi_file("gong-40N", &smf, &dir, "two");
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("two.json")).unwrap()).unwrap();
     let notes = report["notes"].as_array().unwrap();
@@ -401,17 +415,7 @@ fn mpe_file_bends_each_note_by_its_channel() {
             },
         )
     };
-    let note = |ch: u8, on: bool, key: u8| {
-        let (key, vel) = (u7::new(key), u7::new(if on { 100 } else { 0 }));
-        on_channel(
-            ch,
-            if on {
-                MidiMessage::NoteOn { key, vel }
-            } else {
-                MidiMessage::NoteOff { key, vel }
-            },
-        )
-    };
+    let note = |ch: u8, on: bool, key: u8| channel_note(ch, on, key, if on { 100 } else { 0 });
     // 1000 ticks per quarter at the default 120 bpm: 2000 ticks a second.
     let track = vec![
         // MPE Configuration Message: RPN 6 on the master channel, 15 member channels.
@@ -434,22 +438,7 @@ fn mpe_file_bends_each_note_by_its_channel() {
         header: Header::new(Format::SingleTrack, Timing::Metrical(u15::new(1000))),
         tracks: vec![track],
     };
-    let mid = dir.join("mpe.mid");
-    smf.save(&mid).unwrap();
-    let wav = dir.join("mpe.wav");
-    let out = noether(&[
-        "play",
-        toml.to_str().unwrap(),
-        "--midi",
-        mid.to_str().unwrap(),
-        "--tail",
-        "0.1",
-        "-q",
-        "-o",
-        wav.to_str().unwrap(),
-    ]);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{stderr}");
+    let wav = play_midi_file(toml.to_str().unwrap(), &smf, &dir, "mpe");
     let (rate, channels, s) = read_wav(&wav);
     assert_eq!(channels, 2);
     let left: Vec<f64> = s.iter().step_by(2).map(|&x| f64::from(x)).collect();
