@@ -22,9 +22,10 @@ pub fn pulsation_scale(rigidity: f64, surface_density: f64, length: f64) -> f64 
     (rigidity / surface_density).sqrt() / (length * length)
 }
 
-/// The in-plane eigenvalue `ζ⁴ / a⁴` (1/m⁴) of the unit plate's `zeta4` for a plate of
-/// characteristic `length` a (m).
+/// The divisor `a⁴` (m⁴) of the unit plate's in-plane eigenvalues for a plate of
+/// characteristic `length` a (m): the plate's are `ζ_s⁴ / a⁴`. Computed once per plate (or
+/// note) and divided by, mode after mode.
 #[inline]
-pub fn in_plane_scale(zeta4: f64, length: f64) -> f64 {
-    zeta4 / length.powi(4)
+pub fn in_plane_divisor(length: f64) -> f64 {
+    length.powi(4)
 }

@@ -30,7 +30,7 @@ use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::params::ParamId;
 use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
-use crate::modal::scaling::{flexural_rigidity, in_plane_scale, pulsation_scale};
+use crate::modal::scaling::{flexural_rigidity, in_plane_divisor, pulsation_scale};
 use crate::modal::CouplingTensor;
 use crate::models::plate::basis::PlateBasis;
 use crate::models::plate::spec::Position;
@@ -490,8 +490,9 @@ impl PlateVoice {
             self.omega[s] = w;
             self.damping[s] = law(w);
         }
+        let a4 = in_plane_divisor(a);
         for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4).take(m) {
-            *z = in_plane_scale(zh, a);
+            *z = zh / a4;
         }
         let kappa = if self.data.linear { 0.0 } else { a.powi(-5) };
         let ok = self.models[self.tier]

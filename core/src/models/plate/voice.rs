@@ -14,7 +14,7 @@ use super::mode_list::ModeList;
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
 use super::{rest_projection, LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
-use crate::modal::scaling::in_plane_scale;
+use crate::modal::scaling::in_plane_divisor;
 use crate::modal::CouplingTensor;
 use crate::models::sav_relaxation::SavRelaxation;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
@@ -88,6 +88,7 @@ impl PlateVoice {
         let modal_seconds = start.elapsed().as_secs_f64();
         let a = scene.length_scale();
         let omega_scale = scene.pulsation_scale();
+        let a4 = in_plane_divisor(a);
         let omega: Vec<f64> = lambda2.iter().map(|l2| l2 * omega_scale).collect();
         let damping_of = |omega: &[f64]| -> Result<Vec<f64>, ParamError> {
             Ok(match scene.damping {
@@ -101,7 +102,7 @@ impl PlateVoice {
         let scheme = scene.scheme;
         let params = PlateParams {
             omega: omega.clone(),
-            zeta4: zeta4.iter().map(|&z| in_plane_scale(z, a)).collect(),
+            zeta4: zeta4.iter().map(|z| z / a4).collect(),
             rho_h: scene.surface_density(),
             e_h: scene.material.youngs_modulus * scene.thickness,
             coupling_scale: if linear_only { 0.0 } else { a.powi(-5) },
