@@ -139,10 +139,7 @@ impl Engine {
         self.deferred_len = 0;
         self.reset_pending = false;
         // Banks still queued belong to an earlier generation: drop them here (main thread).
-        while self.handover.bank_rx.try_recv().is_ok() {}
-        self.handover.retiring = None;
-        self.handover.pending_drop = [None, None, None];
-        self.handover.overflow = None;
+        self.handover.drop_in_flight();
         let wanted = self.params.snapshot();
         let last_good = self.bank.as_ref().map(|b| b.values);
         // A bank built for another host rate cannot play at this one.
@@ -170,7 +167,6 @@ impl Engine {
                 host_rate,
                 generation: self.generation,
                 active: true,
-                first_build,
                 last_good,
                 preview: realtime && first_build && self.bank.is_none(),
                 governed: self.governor.on,

@@ -126,7 +126,6 @@ impl Engine {
                 host_rate: 48_000.0,
                 generation: 0,
                 active: false,
-                first_build: false,
                 last_good: None,
                 preview: false,
                 governed: false,

@@ -69,9 +69,6 @@ pub(crate) struct BuildRequest {
     pub generation: u64,
     /// The engine is active: the worker builds (deactivated: it only drops returned banks).
     pub active: bool,
-    /// The generation needs a first build (false: the engine kept a bank of these parameters
-    /// at this rate).
-    pub first_build: bool,
     /// The parameters of the bank the engine played last (the fallback when the wanted set is
     /// refused).
     pub last_good: Option<ParamValues>,
@@ -82,10 +79,11 @@ pub(crate) struct BuildRequest {
     /// The CPU governor is on: string banks are fitted to one voice's share of the budget
     /// (`governor::voice_share`, `string_bank`).
     pub governed: bool,
-    /// Rebuild key of the bank the engine kept (`Some` when `first_build` is false): what the
-    /// worker compares the parameters with from then on. Not the parameters the worker reads
-    /// when it sees the generation: those may already have moved on (a host writing a new
-    /// set right after an activation), and taking them as built would never build them.
+    /// `None`: the generation needs a first build. `Some`: the engine kept a bank of these
+    /// parameters at this rate, with this rebuild key, which the worker compares the
+    /// parameters with from then on. Not the parameters the worker reads when it sees the
+    /// generation: those may already have moved on (a host writing a new set right after an
+    /// activation), and taking them as built would never build them.
     pub kept: Option<ParamValues>,
 }
 
@@ -240,16 +238,17 @@ fn run(mut s: WorkerSetup, stop: &AtomicBool) {
                 governed: request.governed,
             };
             pending = None;
-            if request.first_build {
-                let wanted = s.params.snapshot();
-                s.built_key = wanted.rebuild_key();
-                if request.preview {
-                    preview(&mut s, &current, &wanted, stop);
-                }
-                first_build(&mut s, &current, wanted, request.last_good, stop);
-            } else if let Some(kept) = request.kept {
+            match request.kept {
                 // Parameters changed since the activation are built by the next polls.
-                s.built_key = kept;
+                Some(kept) => s.built_key = kept,
+                None => {
+                    let wanted = s.params.snapshot();
+                    s.built_key = wanted.rebuild_key();
+                    if request.preview {
+                        preview(&mut s, &current, &wanted, stop);
+                    }
+                    first_build(&mut s, &current, wanted, request.last_good, stop);
+                }
             }
         } else if request.active {
             let v = s.params.snapshot();

@@ -34,4 +34,14 @@ impl Handover {
             overflow: None,
         }
     }
+
+    /// Drops every bank in flight: those still queued (an earlier generation's), the one
+    /// fading out and the parked ones. Main thread, between activations (the voice pool is
+    /// stopped, so no worker reaches them; this drops, so never on the audio thread).
+    pub fn drop_in_flight(&mut self) {
+        while self.bank_rx.try_recv().is_ok() {}
+        self.retiring = None;
+        self.pending_drop = [None, None, None];
+        self.overflow = None;
+    }
 }
