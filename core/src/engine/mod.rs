@@ -129,6 +129,7 @@ mod memory_tests;
 mod meters;
 pub mod midi;
 mod mix;
+mod model_spec;
 mod notes;
 pub mod output;
 pub mod param_meta;

@@ -12,6 +12,7 @@ use super::cost_trial::{plate_prices, Jobs};
 use super::governor::PRIOR_SECONDS_PER_UNIT;
 use super::kinds::ModelKind;
 use super::memory::{cap_bytes, fit_tiers, FitReason, ModesFitted};
+use super::model_spec::{plate_spec, position};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{
@@ -19,15 +20,13 @@ use super::voice::{
     HEARD_FRACTION,
 };
 use crate::error::ParamError;
-use crate::modal::{omega_scale, TensorStorage};
-use crate::models::plate::basis::{shared_tier, BasisKey, ModalCache, PlateBasis};
-use crate::models::plate::extension::mode_count;
-use crate::models::plate::rest_projection::project;
+use crate::modal::TensorStorage;
+use crate::models::plate::basis::{shared_tier, ModalCache, PlateBasis};
+use crate::models::plate::blueprint::PlateBlueprint;
 use crate::models::plate::rest_shape::ShapePart;
-use crate::models::plate::spec::{PlateShape, Position, Symmetry};
+use crate::models::plate::spec::{PlateSpec, Position};
 use crate::models::plate::{
-    LinearSolve, PickupKind, PickupWeights, PlateModel, PlateParams, PlateScheme, StepBoard,
-    SPLIT_MIN_ENTRIES,
+    LinearSolve, PickupKind, PickupWeights, PlateModel, PlateParams, StepBoard, SPLIT_MIN_ENTRIES,
 };
 use std::f64::consts::{PI, TAU};
 use std::sync::Arc;
@@ -49,24 +48,6 @@ pub fn plate_sim_rate(band_hz: f64, floor_hz: f64, scheme: usize) -> f64 {
         0.0
     };
     ((heard.max(stable) / 100.0).ceil() * 100.0).max(floor_hz)
-}
-
-/// A polar parameter pair `(r, angle)` as a position: circular plates read it as it is;
-/// rectangles as `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the sides).
-fn position(kind: ModelKind, r: f64, angle: f64) -> Position {
-    if kind == ModelKind::RectPlate {
-        Position {
-            x: Some(0.5 + 0.5 * r * angle.cos()),
-            y: Some(0.5 + 0.5 * r * angle.sin()),
-            ..Position::default()
-        }
-    } else {
-        Position {
-            r: Some(r),
-            angle: Some(angle),
-            ..Position::default()
-        }
-    }
 }
 
 /// `Φ̂_s` of every mode at the snapshot points (row-major `[point][mode]`): along the diameter
@@ -120,21 +101,16 @@ fn frame(kind: ModelKind, basis: &PlateBasis, v: &ParamValues) -> Frame {
 }
 
 /// The rest shapes per unit rise on the unit plate, `(dome, boss)`, projected on every mode of
-/// `basis` ([`project`] at size 1 and rise 1: a note of size `L` and thickness `h` takes
-/// `a = L h (dome · â_dome + boss · â_boss)` with the rises in thicknesses): the spherical cap
-/// `1 - r²` and the boss `cos²(π r / 2b)` of the `boss_radius` parameter's `b` on circular
-/// plates (both axisymmetric: the strike-mirror basis holds them exactly); the dome
-/// `16 ξ(1-ξ) η(1-η)` and no boss (zeros) on the rectangle. Worker thread.
-fn unit_shapes(
-    kind: ModelKind,
-    shape: PlateShape,
-    basis: &PlateBasis,
-    v: &ParamValues,
-) -> (Vec<f64>, Vec<f64>) {
-    let aspect = v.get(ParamId::Aspect) as f64;
+/// the blueprint's basis ([`PlateBlueprint::rest_shape`] at size 1 and rise 1: a note of size
+/// `L` and thickness `h` takes `a = L h (dome · â_dome + boss · â_boss)` with the rises in
+/// thicknesses): the spherical cap `1 - r²` and the boss `cos²(π r / 2b)` of the
+/// `boss_radius` parameter's `b` on circular plates (both axisymmetric: the strike-mirror
+/// basis holds them exactly); the dome `16 ξ(1-ξ) η(1-η)` and no boss (zeros) on the
+/// rectangle. Worker thread.
+fn unit_shapes(kind: ModelKind, plate: &PlateBlueprint, v: &ParamValues) -> (Vec<f64>, Vec<f64>) {
     if kind == ModelKind::RectPlate {
-        let dome = project(&[ShapePart::Dome { rise: 1.0 }], basis, shape, 1.0, aspect);
-        return (dome, vec![0.0; basis.n_phi()]);
+        let dome = plate.rest_shape(&[ShapePart::Dome { rise: 1.0 }], Some(1.0));
+        return (dome, vec![0.0; plate.basis.n_phi()]);
     }
     let cap = ShapePart::Spherical {
         rise: Some(1.0),
@@ -145,8 +121,8 @@ fn unit_shapes(
         radius: v.get(ParamId::BossRadius) as f64,
     };
     (
-        project(&[cap], basis, shape, 1.0, aspect),
-        project(&[boss], basis, shape, 1.0, aspect),
+        plate.rest_shape(&[cap], Some(1.0)),
+        plate.rest_shape(&[boss], Some(1.0)),
     )
 }
 
@@ -159,20 +135,11 @@ fn above_points(kind: ModelKind, frame: &Frame) -> [Position; 2] {
     }
 }
 
-/// How many modes the band above lists for the basis `basis` of the plate of `v`: as many as
-/// reach the ceiling at the root key ([`mode_count`], with the plate's [`omega_scale`]).
-/// Worker thread.
-fn above_count(basis: &PlateBasis, v: &ParamValues) -> Result<usize, ParamError> {
-    let m = v.material();
-    let scale = omega_scale(
-        v.get(ParamId::Size) as f64,
-        v.get(ParamId::Thickness) as f64,
-        m.youngs_modulus,
-        m.density,
-        m.poisson,
-    )?;
-    let top = basis.lambda2().last().copied().unwrap_or(0.0) * scale;
-    Ok(mode_count(basis.n_phi(), top / TAU))
+/// The top mode's frequency (Hz) of the plate `spec` on its blueprint's basis at the root key:
+/// the band above lists the modes past it ([`PlateBlueprint::modes_above`]). Worker thread.
+fn top_mode_hz(spec: &PlateSpec, plate: &PlateBlueprint) -> f64 {
+    let top = plate.basis.lambda2().last().copied().unwrap_or(0.0) * spec.pulsation_scale();
+    top / TAU
 }
 
 /// Builds `voices_n` plate voices of `kind` for `v` at `sim_rate`, their bands above at
@@ -188,18 +155,12 @@ pub(crate) fn plate_voices(
 ) -> Result<(Vec<Voice>, Option<ModesFitted>), ParamError> {
     let (sim_rate, above_rate) = (jobs.sim, jobs.above);
     let wanted = v.index_of(ParamId::Modes).max(1);
-    let m = v.material();
-    let (shape, symmetry) = match kind {
-        ModelKind::RectPlate => (PlateShape::RectSs, Symmetry::Full),
-        ModelKind::Cymbal => (PlateShape::CircularClamped, Symmetry::StrikeMirror),
-        _ => (PlateShape::CircularFree, Symmetry::StrikeMirror),
-    };
-    let aspect = v.get(ParamId::Aspect) as f64;
+    let wanted_psi = v.index_of(ParamId::InPlaneModes);
+    // The plate as a scene would give it (`engine/model_spec.rs`); its counts are fitted next.
+    let asked = plate_spec(kind, v, wanted, wanted_psi, sim_rate);
     // The memory cap (`engine/memory.rs`): the top tiers come off until the predicted tensors
     // fit, before anything is built.
-    let key_of =
-        |n: usize, m_psi: usize| BasisKey::new(shape, m.poisson, aspect, n, m_psi, symmetry);
-    let wanted_psi = v.index_of(ParamId::InPlaneModes);
+    let key_of = |n: usize, m_psi: usize| asked.basis_key_for(n, m_psi);
     let ladder = tier_ladder(wanted, wanted_psi);
     let (modes, fitted_psi) = fit_tiers(&ladder, cap_bytes(v.get(ParamId::MemoryCap)), key_of)?[0];
     // A linear plate (no in-plane modes) stays linear: its ladder's one in-plane slot is the
@@ -210,16 +171,21 @@ pub(crate) fn plate_voices(
         built: modes as u32,
         reason: FitReason::Memory,
     });
-    let key = key_of(modes, n_psi)?;
-    let basis = cache.basis(&key)?;
+    let spec = PlateSpec {
+        n_phi: modes,
+        n_psi,
+        ..asked
+    };
+    let plate = PlateBlueprint::new(&spec, cache)?;
+    let (key, basis) = (&plate.key, &plate.basis);
     let tiers = tier_ladder(basis.n_phi(), n_psi.min(basis.zeta4().len()));
-    let (shape_dome, shape_boss) = unit_shapes(kind, shape, &basis, v);
-    let frame = frame(kind, &basis, v);
-    let above = AboveModes::build(&key, above_count(&basis, v)?, above_points(kind, &frame));
-    let scheme = PlateScheme::ALL
-        .get(v.index_of(ParamId::Scheme))
-        .copied()
-        .unwrap_or(PlateScheme::SavExact);
+    let (shape_dome, shape_boss) = unit_shapes(kind, &plate, v);
+    let frame = frame(kind, basis, v);
+    let above = AboveModes::new(
+        plate.modes_above(top_mode_hz(&spec, &plate)),
+        above_points(kind, &frame),
+    );
+    let scheme = spec.scheme;
     // One sub-tensor per tier, shared by the voices, in single storage: the values rounded to
     // `f32` once and every layout rebuilt from them, so the voice's discrete energy is that of
     // the rounded tensor and still conserved to `f64` round-off (tests/plates, single storage),
@@ -227,7 +193,7 @@ pub(crate) fn plate_voices(
     // The tiers are shared with the other engines of the process that hold them
     // (`models::plate::basis::shared_tier`).
     let full = &basis.coupling;
-    let single = shared_tier(&key, (full.n_phi(), full.n_psi()), || {
+    let single = shared_tier(key, (full.n_phi(), full.n_psi()), || {
         full.with_storage(TensorStorage::Single)
     })?;
     let couplings = tiers
@@ -236,7 +202,7 @@ pub(crate) fn plate_voices(
             if (n, m) == (single.n_phi(), single.n_psi()) {
                 Ok(single.clone())
             } else {
-                shared_tier(&key, (n, m), || single.truncated(n, m))
+                shared_tier(key, (n, m), || single.truncated(n, m))
             }
         })
         .collect::<Result<Vec<_>, _>>()?;
@@ -260,8 +226,8 @@ pub(crate) fn plate_voices(
         linear: n_psi == 0,
         frame,
         above,
-        snapshot: snapshot_rows(kind, &basis),
-        poisson: m.poisson,
+        snapshot: snapshot_rows(kind, basis),
+        poisson: spec.material.poisson,
         tiers: tiers.clone(),
         tier_price,
         band_hz: v.get(ParamId::BandLimit) as f64,

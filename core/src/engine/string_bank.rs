@@ -20,17 +20,11 @@
 use super::cost_trial::{time_note, Jobs};
 use super::kinds::ModelKind;
 use super::memory::{FitReason, ModesFitted};
+use super::model_spec::string_spec;
 use super::params::{ParamId, ParamValues};
 use super::voice::{StringVoice, Voice, VoiceModel};
 use crate::error::ParamError;
-use crate::models::quantity::Quantity;
-use crate::models::string::spec::{
-    StringContact, StringExcitation, StringObstacle, StringOutput, StringSpec,
-};
-use crate::models::string::{Readout, StiffString, StringConfig, ValetteLosses};
-
-/// Steel density used to derive a string's diameter from its linear density (air losses).
-const STRING_STEEL_DENSITY: f64 = 7850.0;
+use crate::models::string::{StiffString, StringConfig, ValetteLosses};
 
 /// The worst window may cost this many times the voice's share (the governor's target: no
 /// block above twice real time).
@@ -112,80 +106,4 @@ fn string_config(
     let spec = string_spec(kind, v, modes, sim_rate);
     spec.validate()?;
     Ok(spec.config())
-}
-
-/// The instrument's string as a specification.
-fn string_spec(kind: ModelKind, v: &ParamValues, modes: usize, sim_rate: f64) -> StringSpec {
-    let length = v.get(ParamId::Size) as f64;
-    let mu = v.get(ParamId::LinearDensity) as f64;
-    // The contact law `f = K [η]_+^α` is a force per unit length. The sitar's curved
-    // bridge spans several nodes, so its force converges as the grid refines. The
-    // tanpura's point bridge sits on the nodes within `POINT_WIDTH` of its position (at
-    // least the nearest one): a force density on those nodes alone would make the
-    // bridge's total stiffness `K n Δx` follow the mode count. It is scaled to the
-    // stiffness of a contact patch `POINT_WIDTH` long, `K · POINT_WIDTH`, at every grid:
-    // 1 mm is the lecture's tanpura grid spacing (1 m / 1008), whose one-node contact
-    // is that patch, so on that grid the scale is 1.
-    const POINT_WIDTH: f64 = 1e-3;
-    let k_contact = v.get(ParamId::ContactStiffness) as f64;
-    let dx = length / (modes + 1) as f64;
-    let (obstacle, k_contact) = if kind == ModelKind::Sitar {
-        // The grid resolves the curved bridge on the nodes it spans; one shorter than
-        // a grid spacing acts on the first node (as the tanpura's point bridge acts
-        // on the nearest node), so every bridge length builds at every mode count.
-        let bridge = StringObstacle::Sitar {
-            position: 0.0,
-            curvature: v.get(ParamId::BridgeCurvature) as f64,
-            height: 0.0,
-            extent: (v.get(ParamId::BridgePosition) as f64 * length).max(dx),
-        };
-        (bridge, k_contact)
-    } else {
-        let position = v.get(ParamId::BridgePosition) as f64 * length;
-        let on_patch = (1..=modes)
-            .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
-            .count()
-            .max(1);
-        let bridge = StringObstacle::Point {
-            position,
-            height: 0.0,
-            width: POINT_WIDTH,
-        };
-        (bridge, k_contact * POINT_WIDTH / (on_patch as f64 * dx))
-    };
-    // Pickups read the modal sum, exact at any grid (linear interpolation between
-    // nodes would low-pass the bridge's high partials by an amount that depends on the
-    // mode count).
-    let pickup = |id: ParamId| StringOutput::Pickup {
-        position: v.get(id) as f64 * length,
-        quantity: Quantity::Velocity,
-        readout: Readout::Modal,
-    };
-    StringSpec {
-        length,
-        diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
-        tension: v.get(ParamId::Tension) as f64,
-        linear_density: mu,
-        inharmonicity: Some(v.get(ParamId::Inharmonicity) as f64),
-        bending_stiffness: None,
-        modes,
-        sim_rate,
-        losses: ValetteLosses::default().into(),
-        obstacle,
-        contact: StringContact {
-            stiffness: k_contact,
-            exponent: v.get(ParamId::ContactAlpha) as f64,
-        },
-        contact_scheme: "newton".into(),
-        sav_relaxation: crate::models::string::spec::default_contact_relaxation(),
-        excitation: StringExcitation::Pluck {
-            position: v.get(ParamId::PluckPosition) as f64 * length,
-            amplitude: v.get(ParamId::PluckAmplitude) as f64,
-        },
-        outputs: vec![
-            pickup(ParamId::PickupLeftPos),
-            pickup(ParamId::PickupRightPos),
-        ],
-        snapshots: Vec::new(),
-    }
 }

@@ -6,7 +6,6 @@
 //! Threads: built on the worker with the bank; [`Above::reset`] on the audio thread without
 //! allocation.
 
-use crate::models::plate::basis::BasisKey;
 use crate::models::plate::mode_list::ModeList;
 use crate::models::plate::spec::Position;
 use crate::models::plate::BandExtension;
@@ -22,11 +21,11 @@ pub(crate) struct AboveModes {
 }
 
 impl AboveModes {
-    /// Lists `count` modes of the plate `key` (at least the basis's) and evaluates them at the
+    /// Takes the plate's mode `list` (at least the basis's modes;
+    /// [`crate::models::plate::blueprint::PlateBlueprint::modes_above`]) and evaluates it at the
     /// left and right pickup positions `at` of the voices' frame (mirror: `(r_p, 0)`; fixed:
     /// the points). Worker thread; allocates.
-    pub fn build(key: &BasisKey, count: usize, at: [Position; 2]) -> Self {
-        let list = ModeList::build(key, count);
+    pub fn new(list: ModeList, at: [Position; 2]) -> Self {
         let pickups = at.map(|p| (0..list.len()).map(|e| list.phi_at(e, &p)).collect());
         Self { list, pickups }
     }

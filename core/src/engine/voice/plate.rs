@@ -620,6 +620,8 @@ impl PlateVoice {
 
 mod above;
 mod hand;
+#[cfg(test)]
+mod same_plate_tests;
 mod shape;
 
 #[cfg(test)]

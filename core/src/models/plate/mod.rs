@@ -95,6 +95,7 @@
 //! [`PlateModel::process`] run on the audio thread without allocating.
 
 pub mod basis;
+pub mod blueprint;
 pub mod closure;
 pub mod coupling;
 pub mod energy;

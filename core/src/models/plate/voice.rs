@@ -7,12 +7,12 @@
 //! `coupling_scale = a⁻⁵`). Size, thickness and material therefore change only these scalars:
 //! the dimensionless basis and tensor are reused as they are.
 
-use super::basis::{BasisKey, ModalCache};
+use super::basis::ModalCache;
+use super::blueprint::PlateBlueprint;
 use super::excitation::{damping_law, PickupKind, PickupWeights, RaisedCosine};
-use super::extension::{ceiling_hz, mode_count, BandExtension};
-use super::mode_list::ModeList;
-use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity, Symmetry};
-use super::{rest_projection, LinearSolve, Mallet, PlateModel, PlateParams};
+use super::extension::{ceiling_hz, BandExtension};
+use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity};
+use super::{LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
 use crate::modal::scaling::in_plane_divisor;
 use crate::modal::CouplingTensor;
@@ -59,34 +59,19 @@ impl PlateVoice {
     pub fn build(scene: &PlateSpec) -> Result<Self, ParamError> {
         scene.validate()?;
         let start = std::time::Instant::now();
-        let nu = scene.material.poisson;
         let linear_only = scene.n_psi == 0;
-        let aspect = scene.ly.unwrap_or(1.0) / scene.lx.unwrap_or(1.0);
-        let key = BasisKey::new(
-            scene.shape,
-            nu,
-            aspect,
-            scene.n_phi,
-            scene.n_psi,
-            scene.symmetry,
-        )
-        .map_err(scoped)?;
-        let basis = ModalCache::default()
-            .basis(&key)?
+        // The key's own errors name the scene's field.
+        scene.basis_key().map_err(scoped)?;
+        let mut blueprint = PlateBlueprint::new(scene, &mut ModalCache::default())?;
+        blueprint.basis = blueprint
+            .basis
             .with_tensor_storage(scene.tensor_storage)
             .map_err(scoped)?;
-        // The mirror basis lives in the frame where the strike is at θ = 0: every position's
-        // angle is taken relative to the strike's.
-        let theta0 = if scene.shape.is_circular() && scene.symmetry == Symmetry::StrikeMirror {
-            excitation_angle(&scene.excitation)
-        } else {
-            0.0
-        };
-        let phi_at = |s: usize, p: &Position| basis.phi_at(s, &frame_position(scene, theta0, p));
+        let (basis, a) = (&blueprint.basis, blueprint.length);
+        let phi_at = |s: usize, p: &Position| basis.phi_at(s, &blueprint.in_frame(p));
         let (lambda2, zeta4) = (basis.lambda2(), basis.zeta4());
         let cache = basis.cache.clone();
         let modal_seconds = start.elapsed().as_secs_f64();
-        let a = scene.length_scale();
         let omega_scale = scene.pulsation_scale();
         let a4 = in_plane_divisor(a);
         let omega: Vec<f64> = lambda2.iter().map(|l2| l2 * omega_scale).collect();
@@ -192,8 +177,7 @@ impl PlateVoice {
         model.set_sav_relaxation(SavRelaxation::from_scene(scene.sav_relaxation, model.h()));
         model.set_closure(scene.closure).map_err(scoped)?;
         if !scene.imperfection.is_empty() && !linear_only {
-            let rest =
-                rest_projection::project(&scene.imperfection, &basis, scene.shape, a, aspect);
+            let rest = blueprint.rest_shape(&scene.imperfection, None);
             model.set_rest_shape(&rest).map_err(scoped)?;
         }
         if let Some((q0, v0)) = initial_state {
@@ -210,7 +194,7 @@ impl PlateVoice {
         // scene's damping law and pickups (in the basis's frame).
         let above = if scene.band_above {
             let top_hz = omega.iter().fold(0.0f64, |m, &w| m.max(w)) / two_pi;
-            let list = ModeList::build(&key, mode_count(omega.len(), top_hz));
+            let list = blueprint.modes_above(top_hz);
             let ceiling = two_pi * ceiling_hz(scene.sim_rate);
             let omega_above: Vec<f64> = list.lambda2[omega.len().min(list.len())..]
                 .iter()
@@ -225,7 +209,7 @@ impl PlateVoice {
                 1.0 / scene.sim_rate,
             );
             for (c, p) in pickup_points.iter().enumerate().take(2) {
-                let at = frame_position(scene, theta0, &p.at);
+                let at = blueprint.in_frame(&p.at);
                 for (e, w) in x.pickup_weights_mut(c).iter_mut().enumerate() {
                     *w = list.phi_at(omega.len() + e, &at) / a;
                 }
@@ -360,29 +344,5 @@ impl RenderSource for PlateVoice {
 
     fn details(&self) -> ModelDetails {
         ModelDetails::Plate(self.info.clone())
-    }
-}
-
-/// `p` in the basis's frame: a circular strike-mirror basis has its strike at angle 0, so
-/// every angle is taken relative to the strike's `theta0` (0 otherwise).
-fn frame_position(scene: &PlateSpec, theta0: f64, p: &Position) -> Position {
-    if scene.shape.is_circular() {
-        Position {
-            angle: Some(p.angle.unwrap_or(0.0) - theta0),
-            ..*p
-        }
-    } else {
-        *p
-    }
-}
-
-/// Angle (rad) of the excitation point on a circular plate; 0 for initial conditions (whose
-/// modes are given in the basis's own frame).
-fn excitation_angle(e: &Excitation) -> f64 {
-    match e {
-        Excitation::Strike { at, .. }
-        | Excitation::Impulse { at, .. }
-        | Excitation::Mallet { at, .. } => at.angle.unwrap_or(0.0),
-        Excitation::Initial { .. } => 0.0,
     }
 }

@@ -126,6 +126,19 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         &mut self.force_weights
     }
 
+    /// The excitation weights `Φ_s(x₀)` (1/m). Any thread owning the model.
+    pub fn force_weights(&self) -> &[f64] {
+        &self.force_weights
+    }
+
+    /// The weights of pickup `index` (1/m). Any thread owning the model.
+    ///
+    /// # Panics
+    /// If `index` is not below the number of pickups.
+    pub fn pickup_weights(&self, index: usize) -> &[f64] {
+        &self.pickups[index].weights
+    }
+
     /// The weights of pickup `index` (1/m), writable in place (keep them finite).
     ///
     /// # Panics

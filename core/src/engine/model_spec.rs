@@ -1,0 +1,251 @@
+//! The one conversion from the instrument's parameter values to the models' specifications:
+//! a plate's [`PlateSpec`] and a string's [`StringSpec`], the same tables a scene's `[plate]` and
+//! `[string]` give. The banks build their voices from them (`engine/plate_bank.rs`,
+//! `engine/string_bank.rs`) through the models' own builders, so a plate or a string is named,
+//! keyed, placed and shaped one way whether a scene or the instrument plays it.
+//!
+//! A spec describes the root key's note struck at full velocity: the notes retune it per key
+//! (`engine/voice/mapping.rs`), and the exciter's strength follows the velocity.
+//!
+//! Worker thread (allocates).
+
+use super::kinds::ModelKind;
+use super::params::{ParamId, ParamValues};
+use super::voice::{mallet_law, MALLET_LOSS};
+use crate::models::plate::mallet_heads::MalletHead;
+use crate::models::plate::spec::{
+    Damping, Excitation, Pickup, PlateScheme, PlateShape, PlateSpec, Position, ShapePart, Symmetry,
+    TensorStorage,
+};
+use crate::models::quantity::Quantity;
+use crate::models::string::spec::{
+    StringContact, StringExcitation, StringObstacle, StringOutput, StringSpec,
+};
+use crate::models::string::{Readout, ValetteLosses};
+
+/// Steel density used to derive a string's diameter from its linear density (air losses).
+const STRING_STEEL_DENSITY: f64 = 7850.0;
+
+/// A polar parameter pair `(r, angle)` as a position: circular plates read it as it is;
+/// rectangles as `(ξ, η) = (½ + ½ r cos θ, ½ + ½ r sin θ)` (fractions of the sides).
+pub(crate) fn position(kind: ModelKind, r: f64, angle: f64) -> Position {
+    if kind == ModelKind::RectPlate {
+        Position {
+            x: Some(0.5 + 0.5 * r * angle.cos()),
+            y: Some(0.5 + 0.5 * r * angle.sin()),
+            ..Position::default()
+        }
+    } else {
+        Position {
+            r: Some(r),
+            angle: Some(angle),
+            ..Position::default()
+        }
+    }
+}
+
+/// The geometry and modal subspace of a plate model: the rectangle simply supported in the
+/// full basis, the cymbal clamped and the gongs free, both in the strike-mirror subspace.
+pub(crate) fn plate_shape(kind: ModelKind) -> (PlateShape, Symmetry) {
+    match kind {
+        ModelKind::RectPlate => (PlateShape::RectSs, Symmetry::Full),
+        ModelKind::Cymbal => (PlateShape::CircularClamped, Symmetry::StrikeMirror),
+        _ => (PlateShape::CircularFree, Symmetry::StrikeMirror),
+    }
+}
+
+/// The instrument's plate for `v` with `n_phi` transverse and `n_psi` in-plane modes (0: a
+/// linear plate) at `sim_rate` (Hz), as a scene's `[plate]` table (module doc): the size is
+/// the radius, or `lx` with `ly = aspect · lx`; the damping law `scale · (a ω^b + c0)`; the
+/// strike at the strike position and angle, a pulse of the strike force or the mallet at its
+/// speed; the dome and the boss in thicknesses as rises in metres; two velocity pickups.
+///
+/// The parameter table's ranges are the instrument's, and a few reach past a scene's (the
+/// damping scale multiplies `a` up to 20 times): validate the spec before a scene renders it.
+pub(crate) fn plate_spec(
+    kind: ModelKind,
+    v: &ParamValues,
+    n_phi: usize,
+    n_psi: usize,
+    sim_rate: f64,
+) -> PlateSpec {
+    let get = |id: ParamId| v.get(id) as f64;
+    let (shape, symmetry) = plate_shape(kind);
+    let size = get(ParamId::Size);
+    let rect = kind == ModelKind::RectPlate;
+    let h = get(ParamId::Thickness);
+    let scale = get(ParamId::DampingScale);
+    let at = position(kind, get(ParamId::StrikeRadius), get(ParamId::StrikeAngle));
+    let excitation = if v.index_of(ParamId::Exciter) == 1 {
+        let (mass, stiffness, exponent, loss, head) = match v.index_of(ParamId::MalletHead) {
+            0 => {
+                let (k, alpha) = mallet_law(get(ParamId::MalletHardness));
+                (
+                    Some(get(ParamId::MalletMass)),
+                    Some(k),
+                    Some(alpha),
+                    Some(MALLET_LOSS),
+                    None,
+                )
+            }
+            i => (
+                None,
+                None,
+                None,
+                None,
+                Some(MalletHead::ALL[(i - 1).min(MalletHead::ALL.len() - 1)]),
+            ),
+        };
+        Excitation::Mallet {
+            at,
+            head,
+            mass,
+            stiffness,
+            exponent,
+            speed: get(ParamId::MalletSpeed),
+            loss,
+        }
+    } else {
+        Excitation::Strike {
+            at,
+            duration: get(ParamId::StrikeDuration),
+            peak_force: get(ParamId::StrikeForce),
+        }
+    };
+    let mut imperfection = Vec::new();
+    let (dome, boss) = (get(ParamId::Dome), get(ParamId::Boss));
+    if dome > 0.0 {
+        imperfection.push(if rect {
+            ShapePart::Dome { rise: dome * h }
+        } else {
+            ShapePart::Spherical {
+                rise: Some(dome * h),
+                curvature_radius: None,
+            }
+        });
+    }
+    if boss > 0.0 && !rect {
+        imperfection.push(ShapePart::Boss {
+            rise: boss * h,
+            radius: get(ParamId::BossRadius),
+        });
+    }
+    let pickup = |r: ParamId, a: ParamId| Pickup {
+        at: position(kind, get(r), get(a)),
+        quantity: Quantity::Velocity,
+    };
+    PlateSpec {
+        shape,
+        radius: (!rect).then_some(size),
+        lx: rect.then_some(size),
+        ly: rect.then_some(size * get(ParamId::Aspect)),
+        thickness: h,
+        material: v.material(),
+        n_phi,
+        n_psi,
+        symmetry,
+        sim_rate,
+        scheme: PlateScheme::ALL
+            .get(v.index_of(ParamId::Scheme))
+            .copied()
+            .unwrap_or(PlateScheme::SavExact),
+        sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
+        closure: get(ParamId::Closure),
+        band_above: v.index_of(ParamId::BandAbove) == 1,
+        // The bank's tiers share one tensor rounded to `f32` (`engine/plate_bank.rs`).
+        tensor_storage: TensorStorage::Single,
+        damping: Damping::Power {
+            a: scale * get(ParamId::DampingA),
+            b: get(ParamId::DampingB),
+            c0: scale * get(ParamId::DampingC0),
+        },
+        excitation,
+        imperfection,
+        pickups: vec![
+            pickup(ParamId::PickupLeftPos, ParamId::PickupLeftAngle),
+            pickup(ParamId::PickupRightPos, ParamId::PickupRightAngle),
+        ],
+    }
+}
+
+/// The instrument's string for `v` with `modes` modes at `sim_rate` (Hz), as a scene's
+/// `[string]` table. Worker thread.
+pub(crate) fn string_spec(
+    kind: ModelKind,
+    v: &ParamValues,
+    modes: usize,
+    sim_rate: f64,
+) -> StringSpec {
+    let length = v.get(ParamId::Size) as f64;
+    let mu = v.get(ParamId::LinearDensity) as f64;
+    // The contact law `f = K [η]_+^α` is a force per unit length. The sitar's curved
+    // bridge spans several nodes, so its force converges as the grid refines. The
+    // tanpura's point bridge sits on the nodes within `POINT_WIDTH` of its position (at
+    // least the nearest one): a force density on those nodes alone would make the
+    // bridge's total stiffness `K n Δx` follow the mode count. It is scaled to the
+    // stiffness of a contact patch `POINT_WIDTH` long, `K · POINT_WIDTH`, at every grid:
+    // 1 mm is the lecture's tanpura grid spacing (1 m / 1008), whose one-node contact
+    // is that patch, so on that grid the scale is 1.
+    const POINT_WIDTH: f64 = 1e-3;
+    let k_contact = v.get(ParamId::ContactStiffness) as f64;
+    let dx = length / (modes + 1) as f64;
+    let (obstacle, k_contact) = if kind == ModelKind::Sitar {
+        // The grid resolves the curved bridge on the nodes it spans; one shorter than
+        // a grid spacing acts on the first node (as the tanpura's point bridge acts
+        // on the nearest node), so every bridge length builds at every mode count.
+        let bridge = StringObstacle::Sitar {
+            position: 0.0,
+            curvature: v.get(ParamId::BridgeCurvature) as f64,
+            height: 0.0,
+            extent: (v.get(ParamId::BridgePosition) as f64 * length).max(dx),
+        };
+        (bridge, k_contact)
+    } else {
+        let position = v.get(ParamId::BridgePosition) as f64 * length;
+        let on_patch = (1..=modes)
+            .filter(|&i| (i as f64 * dx - position).abs() <= 0.5 * POINT_WIDTH)
+            .count()
+            .max(1);
+        let bridge = StringObstacle::Point {
+            position,
+            height: 0.0,
+            width: POINT_WIDTH,
+        };
+        (bridge, k_contact * POINT_WIDTH / (on_patch as f64 * dx))
+    };
+    // Pickups read the modal sum, exact at any grid (linear interpolation between
+    // nodes would low-pass the bridge's high partials by an amount that depends on the
+    // mode count).
+    let pickup = |id: ParamId| StringOutput::Pickup {
+        position: v.get(id) as f64 * length,
+        quantity: Quantity::Velocity,
+        readout: Readout::Modal,
+    };
+    StringSpec {
+        length,
+        diameter: (4.0 * mu / (std::f64::consts::PI * STRING_STEEL_DENSITY)).sqrt(),
+        tension: v.get(ParamId::Tension) as f64,
+        linear_density: mu,
+        inharmonicity: Some(v.get(ParamId::Inharmonicity) as f64),
+        bending_stiffness: None,
+        modes,
+        sim_rate,
+        losses: ValetteLosses::default().into(),
+        obstacle,
+        contact: StringContact {
+            stiffness: k_contact,
+            exponent: v.get(ParamId::ContactAlpha) as f64,
+        },
+        contact_scheme: "newton".into(),
+        sav_relaxation: crate::models::string::spec::default_contact_relaxation(),
+        excitation: StringExcitation::Pluck {
+            position: v.get(ParamId::PluckPosition) as f64 * length,
+            amplitude: v.get(ParamId::PluckAmplitude) as f64,
+        },
+        outputs: vec![
+            pickup(ParamId::PickupLeftPos),
+            pickup(ParamId::PickupRightPos),
+        ],
+        snapshots: Vec::new(),
+    }
+}
