@@ -93,7 +93,7 @@ impl Engine {
     pub fn memory_bytes(&self) -> u64 {
         let banks: usize = [
             self.bank.as_ref(),
-            self.held.as_ref(),
+            self.jobs.held.as_ref(),
             self.handover.retiring.as_ref().map(|r| &r.0),
         ]
         .into_iter()
@@ -112,7 +112,7 @@ impl Engine {
     /// Whether the engine has no bank to play yet (after [`Self::activate_realtime`], until
     /// the worker's first bank arrives): notes are silent. Any thread that owns the engine.
     pub fn is_building_first(&self) -> bool {
-        self.bank.is_none() && self.held.is_none()
+        self.bank.is_none() && self.jobs.held.is_none()
     }
 
     /// The common part of both activations: checks the configuration, stops the pool, opens a
@@ -133,11 +133,11 @@ impl Engine {
         }
         self.deactivate();
         // The pool is stopped: no job runs, a held bank can be dropped here.
-        if let Some(h) = self.held.take() {
+        if let Some(h) = self.jobs.held.take() {
             self.bank.get_or_insert(h);
         }
-        self.deferred_len = 0;
-        self.reset_pending = false;
+        self.jobs.deferred_len = 0;
+        self.jobs.reset_pending = false;
         // Banks still queued belong to an earlier generation: drop them here (main thread).
         self.handover.drop_in_flight();
         let wanted = self.params.snapshot();
@@ -179,8 +179,8 @@ impl Engine {
         self.counts.guarded_past += self.output.guarded();
         self.output = OutputStage::new(host_rate);
         self.values = wanted;
-        self.applied = (wanted, self.bend);
-        self.tuning_applied = self.tuning_seen;
+        self.notes.applied = (wanted, self.notes.bend);
+        self.notes.tuning_applied = self.notes.tuning_seen;
         self.reset();
         if self.worker.is_none() {
             let worker = Worker::spawn(WorkerSetup {
@@ -190,7 +190,7 @@ impl Engine {
                 bank_tx: self.bank_tx.clone(),
                 retire_rx: self.retire_rx.clone(),
                 cache: ModalCache::default(),
-                board: self.board.clone(),
+                board: self.jobs.board.clone(),
                 built_key: wanted.rebuild_key(),
                 next_id: 1,
                 cores: self.governor.cores,
@@ -198,9 +198,9 @@ impl Engine {
             .map_err(|e| ParamError::new("worker thread", e, "a thread the OS can start"))?;
             self.worker = Some(worker);
         }
-        let pool = Pool::start(Pool::default_workers(), self.board.clone())
+        let pool = Pool::start(Pool::default_workers(), self.jobs.board.clone())
             .map_err(|e| ParamError::new("voice pool thread", e, "a thread the OS can start"))?;
-        self.pool = Some(pool);
+        self.jobs.pool = Some(pool);
         Ok(first_build)
     }
 
@@ -211,7 +211,7 @@ impl Engine {
             match self.handover.bank_rx.recv_timeout(POLL_WAIT) {
                 Ok(bank) if bank.generation == self.generation => {
                     self.values = bank.values;
-                    self.applied = (bank.values, self.bend);
+                    self.notes.applied = (bank.values, self.notes.bend);
                     // The bank it replaces (if any) is dropped here, on the main thread.
                     self.bank = Some(bank);
                     self.reset();
@@ -248,7 +248,7 @@ impl Engine {
         if let Ok(mut r) = self.request.lock() {
             r.active = false;
         }
-        if let Some(mut p) = self.pool.take() {
+        if let Some(mut p) = self.jobs.pool.take() {
             p.stop();
             self.counts.worker_jobs_past += p.worker_jobs();
         }

@@ -1,18 +1,18 @@
 //! [`Engine`]: the audio-thread object (lifecycle, events, block processing, voice pool).
 
 use super::bank::{Bank, CHUNK};
-use super::events::{Event, EventKind, GuiCommand};
+use super::events::{Event, GuiCommand};
 use super::governor::Governor;
 use super::handle::{BuildRequest, EngineHandle, Worker, WorkerStatus};
 use super::handover_state::Handover;
 use super::meters::{Counts, Meters};
 use super::mix::{run_bank, Sharing, Tally};
+use super::note_state::NoteState;
 use super::output::OutputStage;
 use super::params::{ParamId, ParamValues, SharedParams};
 use super::pool::Pool;
 use super::telemetry::Telemetry;
-use super::tuning::KeyTuning;
-use crate::models::plate::StepBoard;
+use super::voice_jobs::VoiceJobs;
 use crossbeam_channel::{bounded, Receiver, Sender};
 use ringbuf::traits::Split;
 use ringbuf::{HeapCons, HeapProd, HeapRb};
@@ -32,16 +32,12 @@ pub(super) const RETUNE_INTERVAL: f64 = 0.002;
 pub(super) const FADE: f64 = 0.02;
 /// Polling period of a blocking activation waiting for its bank.
 pub(super) const POLL_WAIT: Duration = Duration::from_millis(2);
-/// Events kept while the bank is held by a late voice job (applied when it returns).
-pub(super) const DEFERRED: usize = 256;
 
 /// The real-time engine (audio thread). See the module documentation of [`super`] for the
 /// lifecycle and threading rules.
 pub struct Engine {
     pub(super) params: Arc<SharedParams>,
     pub(super) values: ParamValues,
-    /// The non-rebuild values and bend the sounding voices were last tuned with.
-    pub(super) applied: (ParamValues, f32),
     pub(super) bank: Option<Box<Bank>>,
     /// The banks on their way in (from the worker) and out (fading, parked, back to the
     /// worker).
@@ -57,39 +53,17 @@ pub struct Engine {
     pub(super) generation: u64,
     /// The worker thread (started by the first activation, joined on drop).
     pub(super) worker: Option<Worker>,
-    /// The voice pool's workers (started by `activate`).
-    pub(super) pool: Option<Pool>,
-    /// Where the bank's large plate voices offer their steps' second halves and the pool's
-    /// workers take them (shared by the pool, the builder thread's banks and this engine).
-    pub(super) board: Arc<StepBoard>,
-    /// The current bank while a late voice job still runs on a worker: nothing but the
-    /// chunk loop touches it, events wait in `deferred` (see `render`).
-    pub(super) held: Option<Box<Bank>>,
-    pub(super) deferred: [EventKind; DEFERRED],
-    pub(super) deferred_len: usize,
-    pub(super) reset_pending: bool,
-    /// Longest wait for the workers' jobs per chunk (`None`: the chunk's duration).
-    pub(super) job_wait: Option<Duration>,
-    /// Threads allowed to share the last chunk's voices (the audio thread included).
-    pub(super) threads_used: u8,
+    /// The voices' jobs on the pool's workers: the pool, the step board, the bank a late
+    /// job holds and the events waiting for it.
+    pub(super) jobs: VoiceJobs,
     pub(super) host_rate: f64,
     pub(super) max_block: usize,
-    pub(super) bend: f32,
-    /// The key table the voices play (taken from `params.tuning()` at block starts).
-    pub(super) key_tuning: KeyTuning,
-    /// Sequence number of `key_tuning` in `params.tuning()`, and of the table the sounding
-    /// voices were last tuned with.
-    pub(super) tuning_seen: u64,
-    pub(super) tuning_applied: u64,
-    pub(super) wheel: f32,
-    pub(super) sustain: bool,
-    /// Keys sounding at the last [`Engine::sounding_keys`] that could read the bank.
-    pub(super) sounding_keys: u128,
+    /// The player's controllers, the key table and what the sounding voices were tuned with.
+    pub(super) notes: NoteState,
     pub(super) frame: u64,
     pub(super) gain: f32,
     /// Low cut, limiter and full-scale guard at the host rate (rebuilt by `activate`).
     pub(super) output: OutputStage,
-    pub(super) retune_wait: usize,
     pub(super) fade_len: usize,
     pub(super) scratch: [Vec<f32>; 2],
     pub(super) watch: Option<u8>,
@@ -114,7 +88,6 @@ impl Engine {
         let engine = Engine {
             params: params.clone(),
             values,
-            applied: (values, 0.0),
             bank: None,
             handover: Handover::new(bank_rx, retire_tx),
             bank_tx,
@@ -133,27 +106,13 @@ impl Engine {
             })),
             generation: 0,
             worker: None,
-            pool: None,
-            board: Arc::new(StepBoard::new()),
-            held: None,
-            deferred: [EventKind::AllNotesOff; DEFERRED],
-            deferred_len: 0,
-            reset_pending: false,
-            job_wait: None,
-            threads_used: 1,
+            jobs: VoiceJobs::new(),
             host_rate: 48_000.0,
             max_block: 0,
-            bend: 0.0,
-            key_tuning: params.tuning().get(),
-            tuning_seen: params.tuning().sequence(),
-            tuning_applied: params.tuning().sequence(),
-            wheel: 0.5,
-            sustain: false,
-            sounding_keys: 0,
+            notes: NoteState::new(values, &params),
             frame: 0,
             gain: 1.0,
             output: OutputStage::new(48_000.0),
-            retune_wait: 0,
             fade_len: 1,
             scratch: [vec![0.0; CHUNK], vec![0.0; CHUNK]],
             watch: None,
@@ -177,7 +136,7 @@ impl Engine {
     /// accumulators. Audio thread safe (no allocation, no drop of a bank). While a late voice
     /// job holds the bank, its voices are reset when it returns.
     pub fn reset(&mut self) {
-        self.reset_pending = self.held.is_some();
+        self.jobs.reset_pending = self.jobs.held.is_some();
         if let Some(b) = self.bank.as_mut() {
             for v in &mut b.voices {
                 v.reset();
@@ -188,12 +147,9 @@ impl Engine {
         if let Some((old, _)) = self.handover.retiring.take() {
             self.retire(old);
         }
-        self.bend = 0.0;
-        self.wheel = 0.5;
-        self.sustain = false;
+        self.notes.reset_controllers();
         self.gain = db_to_gain(self.values.get(ParamId::Gain));
         self.output.reset();
-        self.retune_wait = 0;
         self.meters.next = self.frame;
     }
 
@@ -211,8 +167,12 @@ impl Engine {
         let n = left.len().min(right.len());
         self.poll_commands();
         self.values = self.params.snapshot();
-        if let Some(t) = self.params.tuning().read_if_changed(&mut self.tuning_seen) {
-            self.key_tuning = t;
+        if let Some(t) = self
+            .params
+            .tuning()
+            .read_if_changed(&mut self.notes.tuning_seen)
+        {
+            self.notes.key_tuning = t;
         }
         let mut ev = 0;
         let mut pos = 0;
@@ -251,16 +211,17 @@ impl Engine {
         let mut t = Tally::default();
         // Participants from the `threads` parameter (0: every worker and the audio thread),
         // at most the pool's workers plus one.
-        let workers = self.pool.as_ref().map_or(0, |p| p.workers());
+        let workers = self.jobs.pool.as_ref().map_or(0, |p| p.workers());
         let want = match self.values.index_of(ParamId::Threads) {
             0 => workers + 1,
             t => t.min(workers + 1),
         };
-        self.threads_used = want as u8;
+        self.jobs.threads_used = want as u8;
         let share = Sharing {
-            pool: self.pool.as_ref(),
+            pool: self.jobs.pool.as_ref(),
             helpers: want - 1,
             wait: self
+                .jobs
                 .job_wait
                 .unwrap_or_else(|| Duration::from_secs_f64(len as f64 / self.host_rate)),
         };
@@ -268,7 +229,7 @@ impl Engine {
         let mut release = false;
         if let Some(b) = self.bank.as_mut() {
             hold = run_bank(b, share, left, right, &mut t);
-        } else if let Some(b) = self.held.as_mut() {
+        } else if let Some(b) = self.jobs.held.as_mut() {
             release = !run_bank(b, share, left, right, &mut t);
         }
         if let Some((old, done)) = self.handover.retiring.as_mut() {
@@ -296,18 +257,18 @@ impl Engine {
         self.counts.diverged += t.diverged;
         self.counts.late += t.late;
         if hold {
-            self.held = self.bank.take();
+            self.jobs.held = self.bank.take();
         } else if release {
-            self.bank = self.held.take();
-            if std::mem::take(&mut self.reset_pending) {
+            self.bank = self.jobs.held.take();
+            if std::mem::take(&mut self.jobs.reset_pending) {
                 if let Some(b) = self.bank.as_mut() {
                     for v in &mut b.voices {
                         v.reset();
                     }
                 }
             }
-            for i in 0..std::mem::take(&mut self.deferred_len) {
-                self.apply(self.deferred[i]);
+            for i in 0..std::mem::take(&mut self.jobs.deferred_len) {
+                self.apply(self.jobs.deferred[i]);
             }
         }
         // Output gain, smoothed per sample towards the target (time constant about 5 ms).
@@ -334,7 +295,7 @@ impl Engine {
     /// bit for bit as on a new instance (`tests/engine/long_performance.rs`). Audio thread,
     /// O(history + look-ahead).
     fn rest_if_silent(&mut self, gain_target: f32) {
-        if self.held.is_some() || self.handover.retiring.is_some() {
+        if self.jobs.held.is_some() || self.handover.retiring.is_some() {
             return;
         }
         let Some(b) = self.bank.as_mut() else {
@@ -370,6 +331,7 @@ fn db_to_gain(db: f32) -> f32 {
 mod tests {
     use super::*;
     use crate::engine::bank::ModalCache;
+    use crate::models::plate::StepBoard;
 
     /// A string set the models refuse (a 1 km string: outside `string.length`'s range; the
     /// table's ranges never allow it, so it is written around them).

@@ -9,7 +9,7 @@ use super::bank::Bank;
 impl Engine {
     /// Whether a bank may leave the audio thread: no worker of the voice pool can reach it.
     fn may_hand_away(&self, b: &Bank) -> bool {
-        !b.lanes.any_busy() && self.pool.as_ref().is_none_or(|p| p.quiescent())
+        !b.lanes.any_busy() && self.jobs.pool.as_ref().is_none_or(|p| p.quiescent())
     }
 
     /// Sends a replaced bank back to the worker, or parks it until the queue has room and the
@@ -53,7 +53,7 @@ impl Engine {
         }
         let parked = self.handover.pending_drop.iter().any(|s| s.is_some())
             || self.handover.overflow.is_some();
-        if parked || self.held.is_some() {
+        if parked || self.jobs.held.is_some() {
             return;
         }
         let Ok(new) = self.handover.bank_rx.try_recv() else {
@@ -74,7 +74,7 @@ impl Engine {
             }
         }
         // Notes of the new bank take the current tuning at their start.
-        self.applied = (self.values, self.bend);
-        self.tuning_applied = self.tuning_seen;
+        self.notes.applied = (self.values, self.notes.bend);
+        self.notes.tuning_applied = self.notes.tuning_seen;
     }
 }

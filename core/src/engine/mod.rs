@@ -130,6 +130,7 @@ mod meters;
 pub mod midi;
 mod mix;
 mod model_spec;
+mod note_state;
 mod notes;
 pub mod output;
 pub mod param_meta;
@@ -146,6 +147,7 @@ mod string_bank;
 mod telemetry;
 pub mod tuning;
 pub mod voice;
+mod voice_jobs;
 
 pub use crate::models::plate::spec::Material;
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};

@@ -39,8 +39,8 @@ impl Engine {
     pub(super) fn physics(&self) -> Physics {
         Physics {
             values: self.values,
-            bend: self.bend,
-            tuning: self.key_tuning,
+            bend: self.notes.bend,
+            tuning: self.notes.key_tuning,
             price_cap: f64::INFINITY,
         }
     }
@@ -48,10 +48,10 @@ impl Engine {
     /// Applies one event at the current position (or keeps it while a late job holds the
     /// bank).
     pub(super) fn apply(&mut self, kind: EventKind) {
-        if self.held.is_some() {
-            if let Some(slot) = self.deferred.get_mut(self.deferred_len) {
+        if self.jobs.held.is_some() {
+            if let Some(slot) = self.jobs.deferred.get_mut(self.jobs.deferred_len) {
                 *slot = kind;
-                self.deferred_len += 1;
+                self.jobs.deferred_len += 1;
             } else {
                 self.counts.deferred_lost += 1;
             }
@@ -60,17 +60,17 @@ impl Engine {
         match kind {
             // A key the tuning leaves unmapped (a Scala `.kbm` 'x') plays nothing.
             EventKind::NoteOn { key, velocity } if velocity > 0.0 && velocity.is_finite() => {
-                if self.key_tuning.is_mapped(key.min(127)) {
+                if self.notes.key_tuning.is_mapped(key.min(127)) {
                     self.start_note(key.min(127), velocity.min(1.0))
                 }
             }
             EventKind::NoteOn { key, .. } | EventKind::NoteOff { key } => self.release(key),
             EventKind::PitchBend(x) if x.is_finite() => {
-                self.bend = x.clamp(-1.0, 1.0) * self.values.get(ParamId::PitchBendRange);
+                self.notes.bend = x.clamp(-1.0, 1.0) * self.values.get(ParamId::PitchBendRange);
             }
-            EventKind::ModWheel(x) if x.is_finite() => self.wheel = x.clamp(0.0, 1.0),
+            EventKind::ModWheel(x) if x.is_finite() => self.notes.wheel = x.clamp(0.0, 1.0),
             EventKind::Sustain(down) => {
-                self.sustain = down;
+                self.notes.sustain = down;
                 if !down {
                     let p = self.physics();
                     if let Some(b) = self.bank.as_mut() {
@@ -106,7 +106,7 @@ impl Engine {
 
     pub(super) fn start_note(&mut self, key: u8, vel: f32) {
         let p = self.physics();
-        let (frame, wheel) = (self.frame, self.wheel);
+        let (frame, wheel) = (self.frame, self.notes.wheel);
         let Some(b) = self.bank.as_mut() else { return };
         let slot = b
             .voices
@@ -176,7 +176,7 @@ impl Engine {
 
     pub(super) fn release(&mut self, key: u8) {
         let p = self.physics();
-        let sustain = self.sustain;
+        let sustain = self.notes.sustain;
         let Some(b) = self.bank.as_mut() else { return };
         for v in b
             .voices
@@ -195,7 +195,7 @@ impl Engine {
 
     pub(super) fn poll_commands(&mut self) {
         // While a late job holds the bank, commands wait in their queue.
-        while self.held.is_none() {
+        while self.jobs.held.is_none() {
             let Some(c) = self.commands.try_pop() else {
                 break;
             };
@@ -264,13 +264,13 @@ impl Engine {
     /// Audio thread, O(voices).
     pub fn sounding_keys(&mut self) -> u128 {
         if let Some(b) = self.bank.as_ref() {
-            self.sounding_keys = b
+            self.notes.sounding_keys = b
                 .voices
                 .iter()
                 .filter(|v| v.active)
                 .fold(0u128, |set, v| set | 1u128 << v.key.min(127));
         }
-        self.sounding_keys
+        self.notes.sounding_keys
     }
 
     /// Retunes the sounding voices when playing values, the bend or the key table changed
@@ -291,19 +291,18 @@ impl Engine {
                 }
             }
         }
-        self.retune_wait = self.retune_wait.saturating_sub(len);
-        let changed = self.applied.1 != self.bend
-            || self.tuning_applied != self.tuning_seen
-            || PARAMS
-                .iter()
-                .filter(|p| !p.rebuild)
-                .any(|p| self.applied.0.get(p.id).to_bits() != self.values.get(p.id).to_bits());
-        if !changed || self.retune_wait > 0 || self.bank.is_none() {
+        self.notes.retune_wait = self.notes.retune_wait.saturating_sub(len);
+        let changed = self.notes.applied.1 != self.notes.bend
+            || self.notes.tuning_applied != self.notes.tuning_seen
+            || PARAMS.iter().filter(|p| !p.rebuild).any(|p| {
+                self.notes.applied.0.get(p.id).to_bits() != self.values.get(p.id).to_bits()
+            });
+        if !changed || self.notes.retune_wait > 0 || self.bank.is_none() {
             return;
         }
-        self.applied = (self.values, self.bend);
-        self.tuning_applied = self.tuning_seen;
-        self.retune_wait = (RETUNE_INTERVAL * self.host_rate) as usize;
+        self.notes.applied = (self.values, self.notes.bend);
+        self.notes.tuning_applied = self.notes.tuning_seen;
+        self.notes.retune_wait = (RETUNE_INTERVAL * self.host_rate) as usize;
         let p = self.physics();
         if let Some(b) = self.bank.as_mut() {
             for v in b.voices.iter_mut().filter(|v| v.active) {

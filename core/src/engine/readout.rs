@@ -25,7 +25,7 @@ impl Engine {
     /// renders and tests that compare outputs bit for bit set a long wait (any thread that
     /// owns the engine).
     pub fn set_job_wait(&mut self, wait: Option<Duration>) {
-        self.job_wait = wait;
+        self.jobs.job_wait = wait;
     }
 
     /// Voice jobs that were still running on a worker when the audio thread's wait ended,
@@ -39,27 +39,27 @@ impl Engine {
     /// a chunk with one sounding voice runs on the audio thread, helped by a worker only
     /// when its steps are split).
     pub fn threads_used(&self) -> usize {
-        self.threads_used as usize
+        self.jobs.threads_used as usize
     }
 
     /// Voice jobs run by the voice pool's workers (not the audio thread) since the engine
     /// was created.
     pub fn worker_jobs(&self) -> u64 {
-        self.counts.worker_jobs_past + self.pool.as_ref().map_or(0, |p| p.worker_jobs())
+        self.counts.worker_jobs_past + self.jobs.pool.as_ref().map_or(0, |p| p.worker_jobs())
     }
 
     /// Halves of split plate steps run by the pool's workers (`half_step`: voices whose
     /// coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries),
     /// since the engine was created.
     pub fn shared_step_halves(&self) -> u64 {
-        self.board.shared_halves()
+        self.jobs.board.shared_halves()
     }
 
     /// Halves of split plate steps a worker took but did not finish within the owner's
     /// bounded wait (the owner computed them itself; the sound is the same), since the engine
     /// was created.
     pub fn late_step_halves(&self) -> u64 {
-        self.board.late_halves()
+        self.jobs.board.late_halves()
     }
 
     /// Events lost because more than 256 arrived while a late job held the bank.
@@ -110,13 +110,13 @@ impl Engine {
     /// The bank in use, also while a late voice job holds it (bank-level values only: its
     /// voices must not be read then).
     fn any_bank(&self) -> Option<&Bank> {
-        self.bank.as_deref().or(self.held.as_deref())
+        self.bank.as_deref().or(self.jobs.held.as_deref())
     }
 
     /// Sounding voices (while a late voice job holds the bank: those sounding at the end of
     /// the last chunk).
     pub fn active_voices(&self) -> usize {
-        match (&self.bank, &self.held) {
+        match (&self.bank, &self.jobs.held) {
             (Some(b), _) => b.voices.iter().filter(|v| v.active).count(),
             (None, Some(h)) => h.lanes.sounding(),
             (None, None) => 0,
@@ -200,13 +200,13 @@ impl Engine {
 
     fn send_telemetry(&mut self) {
         let audio_s = self.meters.samples.max(1) as f64 / self.host_rate;
-        let workers = self.pool.as_mut().map_or(0.0, |p| p.take_cpu());
+        let workers = self.jobs.pool.as_mut().map_or(0.0, |p| p.take_cpu());
         let mut t = Telemetry {
             frame: self.frame,
             cpu_load: ((self.meters.busy + workers) / audio_s) as f32,
             audio_load: (self.meters.busy / audio_s) as f32,
             cpu_peak: self.meters.cpu_peak,
-            threads: self.threads_used,
+            threads: self.jobs.threads_used,
             late_jobs: self.counts.late,
             governor_reduced: self.governor.reduced,
             governor_shed: self.governor.shed,
