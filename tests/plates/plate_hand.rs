@@ -1,4 +1,4 @@
-//! The player's hand on the modal plate (`core/src/models/plate/model/hand.rs`): a point damper
+//! The player's hand on the modal plate (`core/src/models/plate/model/hand_solve.rs`): a point damper
 //! solved implicitly with every plate scheme, alone, under a force pulse and jointly with a
 //! mallet in contact. The power balance closes to round-off with the hand's dissipation
 //! counted, `c = 0` is the step without the hand bit for bit, the joint solve is the plate step

@@ -1,4 +1,4 @@
-//! The player's hand on the stiff string (`core/src/models/string/model/hand.rs`): a point
+//! The player's hand on the stiff string (`core/src/models/string/model/hand_solve.rs`): a point
 //! damper at a grid node off the bridge, solved in closed form with the exact modal step. The
 //! power balance closes to round-off with the hand's dissipation counted (with the bridge
 //! contact under both contact schemes, both synthesis paths, and a force pulse), `c = 0` is the

@@ -26,7 +26,7 @@
 
 mod above;
 mod body;
-mod hand;
+mod hand_placement;
 mod mallet;
 mod mapping;
 pub mod modulation;
@@ -43,8 +43,8 @@ pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
 pub(crate) use above::AboveModes;
-pub(crate) use hand::hand_radius;
-pub use hand::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
+pub(crate) use hand_placement::hand_radius;
+pub use hand_placement::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
 pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
 pub(crate) use string::StringVoice;
 

@@ -25,7 +25,7 @@
 //! thread without allocating.
 
 use super::above::{Above, AboveModes};
-use super::hand::hand_radius;
+use super::hand_placement::hand_radius;
 use super::mallet::VoiceMallet;
 use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
 use crate::engine::params::ParamId;
@@ -60,7 +60,7 @@ pub(crate) enum Frame {
         orders: Vec<u32>,
         /// `Φ̂_s(r_strike, 0)` (unit plate).
         strike: Vec<f64>,
-        /// `Φ̂_s(r_hand, 0)` (unit plate, [`super::hand::hand_radius`]); the hand sits at angle π of the frame.
+        /// `Φ̂_s(r_hand, 0)` (unit plate, [`super::hand_placement::hand_radius`]); the hand sits at angle π of the frame.
         hand: Vec<f64>,
         /// `Φ̂_s(r_p, 0)` of the left and right pickups (unit plate).
         pickups: [Vec<f64>; 2],
@@ -164,10 +164,10 @@ pub(crate) struct PlateVoice {
     /// The note's own strike radius and pickup radii, where they differ from the bank's.
     own_strike: Option<f64>,
     own_pickups: [Option<f64>; 2],
-    /// `Φ̂_s` at the hand point in the voice's frame (unit plate, every mode; [`super::hand::hand_radius`]).
+    /// `Φ̂_s` at the hand point in the voice's frame (unit plate, every mode; [`super::hand_placement::hand_radius`]).
     hand_w: Vec<f64>,
     /// The hand's damper coefficient at full pressure for the current note (N·s/m,
-    /// [`super::hand::hand_c_max`]; 0 before the first retune).
+    /// [`super::hand_placement::hand_c_max`]; 0 before the first retune).
     hand_c_max: f64,
     /// The hand pressure applied to the model (0 to 1).
     pressure: f64,
@@ -619,7 +619,7 @@ impl PlateVoice {
 }
 
 mod above;
-mod hand;
+mod hand_pressure;
 #[cfg(test)]
 mod same_plate_tests;
 mod shape;

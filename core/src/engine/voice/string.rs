@@ -3,7 +3,7 @@
 //! Threads: built on the worker thread (inside a bank); everything else runs on the audio
 //! thread without allocating.
 
-use super::hand::{HAND_STRING_POSITION, HAND_T60};
+use super::hand_placement::{HAND_STRING_POSITION, HAND_T60};
 use super::mapping::{pitch_ratio, release_sigma, Physics};
 use crate::engine::governor::PRIOR_SECONDS_PER_UNIT;
 use crate::engine::params::ParamId;

@@ -102,7 +102,7 @@ pub mod energy;
 pub mod excitation;
 pub mod extension;
 pub mod half_step;
-pub mod hand;
+pub mod hand_damper;
 mod linalg;
 pub mod mallet;
 pub mod mallet_heads;
@@ -128,7 +128,7 @@ pub use excitation::{
 };
 pub use extension::{BandExtension, ExtensionEnergy};
 pub use half_step::{StepBoard, SPLIT_MIN_ENTRIES};
-pub use hand::hand_damping_for_t60;
+pub use hand_damper::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};
 pub use mallet_heads::{HeadLaw, MalletHead};
 pub use model::{Diverged, OutputSample, PlateModel};

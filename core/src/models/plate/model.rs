@@ -17,7 +17,7 @@ use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{PickupKind, PickupWeights};
 use super::half_step::StepBoard;
-use super::hand::Hand;
+use super::hand_damper::Hand;
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::partial_sums::{all_finite, lane_sum};
@@ -111,7 +111,7 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     solver: Option<SpdSolver>,
     /// Auxiliary state and scratch of the SAV scheme (`None` for the other schemes).
     sav: Option<SavStep>,
-    /// The player's hand (a point damper, [`super::hand`]); `c = 0` without one.
+    /// The player's hand (a point damper, [`super::hand_damper`]); `c = 0` without one.
     hand: Hand,
     /// The static rest shape (flat unless [`Self::set_rest_shape`] set one).
     rest: RestShape,
@@ -576,7 +576,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
 
 mod energy_terms;
 mod free_response;
-mod hand;
+mod hand_solve;
 mod mallet_step;
 mod rest_shape;
 mod rest_state;

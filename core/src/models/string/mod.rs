@@ -57,7 +57,7 @@ pub mod contact;
 pub mod contact_sav;
 pub mod exact;
 pub mod excitation;
-pub mod hand;
+pub mod hand_damper;
 pub mod losses;
 pub mod model;
 pub mod obstacle;

@@ -5,7 +5,7 @@ use super::contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 use super::contact_sav::ContactScheme;
 use super::exact::ModeCoefficients;
 use super::excitation::{StrikeForce, TrianglePluck};
-use super::hand::StringHand;
+use super::hand_damper::StringHand;
 use super::losses::Losses;
 use super::obstacle::Obstacle;
 use super::output::{FieldView, OutputChannel, ResolvedOutput};
@@ -173,7 +173,7 @@ pub struct StiffString {
     obstacle_force: f64,
     /// Steps since the last initial condition.
     steps: u64,
-    /// The player's hand (a point damper, [`super::hand`]); `c = 0` without one.
+    /// The player's hand (a point damper, [`super::hand_damper`]); `c = 0` without one.
     hand: StringHand,
 }
 
@@ -589,6 +589,6 @@ impl RenderSource for StiffString {
 }
 
 mod contact_step;
-mod hand;
+mod hand_solve;
 mod retune;
 mod step;

@@ -1,6 +1,6 @@
 //! Where the player's hand rests on an engine voice and how hard it damps at full pressure
 //! (the per-note pressure expression; the damper itself is the model's:
-//! [`crate::models::plate::hand`], [`crate::models::string::hand`]).
+//! [`crate::models::plate::hand_damper`], [`crate::models::string::hand_damper`]).
 //!
 //! Threads: constants and pure functions, any thread.
 

@@ -1,5 +1,5 @@
 //! The player's hand on [`StiffString`]: placement and the closed-form solve with the step
-//! (equations in [`crate::models::string::hand`]).
+//! (equations in [`crate::models::string::hand_damper`]).
 
 use super::StiffString;
 use crate::error::{check_non_negative, ParamError};

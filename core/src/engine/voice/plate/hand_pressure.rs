@@ -1,10 +1,10 @@
 //! The player's hand on a plate voice: its weights, `c_max` and pressure on the tier in use
-//! (placement and design in [`crate::engine::voice::hand`]).
+//! (placement and design in [`crate::engine::voice::hand_placement`]).
 //!
 //! Threads: audio thread, no allocation.
 
 use super::{PlateVoice, HEARD_FRACTION};
-use crate::engine::voice::hand::hand_c_max;
+use crate::engine::voice::hand_placement::hand_c_max;
 use std::f64::consts::TAU;
 
 impl PlateVoice {

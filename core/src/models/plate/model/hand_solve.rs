@@ -1,5 +1,5 @@
 //! The player's hand on [`PlateModel`]: placement, the closed-form solve with the step and its
-//! energy (equations in [`crate::models::plate::hand`]).
+//! energy (equations in [`crate::models::plate::hand_damper`]).
 
 use super::{check_weights, PlateModel};
 use crate::error::{check_non_negative, ParamError};
