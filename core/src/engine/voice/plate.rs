@@ -109,7 +109,7 @@ pub(crate) struct PlateData {
     /// in the worker's cache, not counted).
     pub tensor_bytes: usize,
     /// The dome's rest shape per unit rise on the unit plate, every mode (dimensionless;
-    /// `a_k = L h · dome · shape_dome_k`, [`shape`]).
+    /// `a_k = L h · dome · shape_dome_k`, [`rest_shape`]).
     pub shape_dome: Vec<f64>,
     /// The boss's, likewise (zeros on the rectangle).
     pub shape_boss: Vec<f64>,
@@ -184,7 +184,7 @@ pub(crate) struct PlateVoice {
     /// Simulation rate (Hz).
     pub fs: f64,
     /// The rest shape's scratch `a_k` (m², every mode) and the amplitudes `(L h dome, L h
-    /// boss)` (m²) last set on each tier's model ([`shape`]).
+    /// boss)` (m²) last set on each tier's model ([`rest_shape`]).
     rest: Vec<f64>,
     rest_set: Vec<(f64, f64)>,
     /// The band above the note's simulation ([`above`]).
@@ -620,9 +620,9 @@ impl PlateVoice {
 
 mod above;
 mod hand_pressure;
+mod rest_shape;
 #[cfg(test)]
 mod same_plate_tests;
-mod shape;
 
 #[cfg(test)]
 mod tests {

@@ -3,8 +3,8 @@
 //! (method and accuracy in [`super::rest_shape`]). Worker thread.
 
 use super::basis::PlateBasis;
+use super::geometry::PlateShape;
 use super::rest_shape::ShapePart;
-use super::shape::PlateShape;
 use super::spec::Position;
 use crate::modal::quadrature::GaussLegendre;
 

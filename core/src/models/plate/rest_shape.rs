@@ -22,7 +22,7 @@
 //!
 //! Threads: validation and projection run on the worker (build) thread.
 
-use super::shape::PlateShape;
+use super::geometry::PlateShape;
 use crate::error::{check_closed, ParamError};
 use serde::{Deserialize, Deserializer, Serialize};
 

@@ -11,7 +11,7 @@ use crate::models::ranges::*;
 use serde::{Deserialize, Serialize};
 
 /// Plate geometry and boundary conditions (its own leaf module, re-exported here).
-pub use super::shape::PlateShape;
+pub use super::geometry::PlateShape;
 
 /// Time scheme of the plate (`plate.scheme`): the model's own enumeration.
 pub use super::params::PlateScheme;
