@@ -26,7 +26,7 @@
 //! The group `engine_split_0.1s_48k` does the same for one heavy voice, the moonshot: the
 //! gong-40N preset with a band of 11.7 kHz (1030 strike-mirror modes, 15 in-plane, 26 kHz), whose
 //! coupling tensor is large enough that the voice shares each step with a worker
-//! (`models::plate::half_step`); with `threads` 1 it runs both halves itself. It prints the
+//! (`models::plate::step_board`); with `threads` 1 it runs both halves itself. It prints the
 //! halves run on the worker and the late ones.
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};

@@ -1,6 +1,6 @@
 //! One heavy voice on two cores: a plate voice whose coupling tensor has at least
 //! `SPLIT_MIN_ENTRIES` entries offers the second half of each step to the voice pool's workers
-//! (`models::plate::half_step`), with a bounded wait and the owner computing the half itself
+//! (`models::plate::step_board`), with a bounded wait and the owner computing the half itself
 //! when no worker takes it in time.
 //!
 //! - The output does not depend on the thread count, bit for bit: the split's summation order

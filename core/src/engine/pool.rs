@@ -41,7 +41,7 @@
 //! # Split steps
 //!
 //! In a chunk whose sounding voices split their steps (a plate with a large coupling tensor,
-//! `models::plate::half_step`), the invited workers, once out of voice jobs, take the halves
+//! `models::plate::step_board`), the invited workers, once out of voice jobs, take the halves
 //! those voices offer on the pool's [`StepBoard`] until the audio thread ends the chunk; with a
 //! single such voice, the audio thread keeps the voice and the worker only helps. A worker
 //! does this while counted in `busy`, so the quiescence rule above also covers the jobs on the
@@ -363,7 +363,7 @@ impl Pool {
     /// `helpers` workers besides the calling audio thread, which claims jobs too; then waits
     /// at most `wait` for the jobs the workers hold. Returns with each of those jobs `DONE`
     /// or, if a worker was late, still `RUNNING`. With `assist` (the bank's voices split their
-    /// steps, `half_step`), the workers also take the halves offered on the board until the
+    /// steps, `step_board`), the workers also take the halves offered on the board until the
     /// chunk ends, and a single queued voice is left to the audio thread (so that a worker
     /// helps it rather than runs it alone). Audio thread: no allocation, no lock; `unpark` is
     /// a futex wake, made only when a worker sleeps.

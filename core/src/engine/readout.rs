@@ -48,7 +48,7 @@ impl Engine {
         self.counts.worker_jobs_past + self.jobs.pool.as_ref().map_or(0, |p| p.worker_jobs())
     }
 
-    /// Halves of split plate steps run by the pool's workers (`half_step`: voices whose
+    /// Halves of split plate steps run by the pool's workers (`step_board`: voices whose
     /// coupling tensor has at least [`crate::models::plate::SPLIT_MIN_ENTRIES`] entries),
     /// since the engine was created.
     pub fn shared_step_halves(&self) -> u64 {

@@ -102,7 +102,6 @@ pub mod energy;
 pub mod excitation;
 pub mod extension;
 pub mod geometry;
-pub mod half_step;
 pub mod hand_damper;
 mod linalg;
 pub mod mallet;
@@ -117,6 +116,7 @@ mod sav;
 mod shared;
 mod sparse;
 pub mod spec;
+pub mod step_board;
 pub mod step_join;
 pub mod voice;
 
@@ -127,11 +127,11 @@ pub use excitation::{
     RaisedCosine,
 };
 pub use extension::{BandExtension, ExtensionEnergy};
-pub use half_step::{StepBoard, SPLIT_MIN_ENTRIES};
 pub use hand_damper::hand_damping_for_t60;
 pub use mallet::{Mallet, MalletEnergy};
 pub use mallet_heads::{HeadLaw, MalletHead};
 pub use model::{Diverged, OutputSample, PlateModel};
 pub use params::{LinearSolve, PlateParams, PlateScheme};
 pub use rest_shape::ShapePart;
+pub use step_board::{StepBoard, SPLIT_MIN_ENTRIES};
 pub use step_join::{Sequential, StepJoin};

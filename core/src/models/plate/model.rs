@@ -16,12 +16,12 @@ use super::closure::{
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{PickupKind, PickupWeights};
-use super::half_step::StepBoard;
 use super::hand_damper::Hand;
 use super::linalg::{Route, SpdSolver};
 use super::params::{LinearSolve, PlateParams, PlateScheme};
 use super::partial_sums::{all_finite, lane_sum};
 use super::sav::SavStep;
+use super::step_board::StepBoard;
 use super::step_join::StepJoin;
 use crate::error::{check_finite, ParamError};
 use crate::models::sav_relaxation::SavRelaxation;
@@ -132,7 +132,7 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
 impl<C: ModalCoupling + 'static> PlateModel<C> {
     /// Shares each SAV step's coupling kernel with real-time helpers: the second half of the
     /// in-plane rows is offered on `board` and taken back after a bounded wait
-    /// ([`super::half_step`]), or the kernel runs in one pass (`None`, the default). Returns
+    /// ([`super::step_board`]), or the kernel runs in one pass (`None`, the default). Returns
     /// whether the split is in use (as [`Self::set_step_join`]). Worker thread: allocates
     /// the job.
     pub fn set_step_board(&mut self, board: Option<Arc<StepBoard>>) -> bool {

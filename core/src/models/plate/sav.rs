@@ -82,9 +82,9 @@
 //! without allocating.
 
 use super::coupling::ModalCoupling;
-use super::half_step::{HalfJob, StepBoard};
 use super::linalg::dot;
 use super::partial_sums::{lane_sum, lane_sums};
+use super::step_board::{HalfJob, StepBoard};
 use super::step_join::StepJoin;
 use crate::models::sav_relaxation::{relax, RelaxationLedger, SavRelaxation};
 use std::sync::Arc;
@@ -135,7 +135,7 @@ struct SavSplit {
 enum HalfRunner {
     /// A join that returns when both halves are done (offline helpers, [`super::StepJoin`]).
     Join(Arc<dyn StepJoin>),
-    /// A real-time helper through a board, with a bounded wait ([`super::half_step`]).
+    /// A real-time helper through a board, with a bounded wait ([`super::step_board`]).
     Board {
         board: Arc<StepBoard>,
         job: Box<HalfJob>,
@@ -201,7 +201,7 @@ impl SavStep {
     }
 
     /// Runs the fused kernel as two halves, the second offered to real-time helpers through
-    /// `board` with a bounded wait ([`super::half_step`]; `None`: one pass). The same
+    /// `board` with a bounded wait ([`super::step_board`]; `None`: one pass). The same
     /// conditions and summation order as [`Self::set_join`], so the bits do not depend on who
     /// ran the second half. Worker thread (allocates).
     pub(crate) fn set_board<C: ModalCoupling + 'static>(

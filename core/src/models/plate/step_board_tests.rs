@@ -1,4 +1,4 @@
-//! Tests of the half-step protocol (`half_step.rs`): a toy coupling, helpers held or placed
+//! Tests of the half-step protocol (`step_board.rs`): a toy coupling, helpers held or placed
 //! at chosen points.
 
 use super::*;

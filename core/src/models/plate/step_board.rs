@@ -112,7 +112,7 @@ unsafe impl Send for HalfJob {}
 #[cfg(test)]
 thread_local! {
     /// Test hook: a helper holding this job's pointer from an earlier step takes the job right
-    /// after the owner posts it (on the owner's thread; `half_step_tests.rs`).
+    /// after the owner posts it (on the owner's thread; `step_board_tests.rs`).
     static STALE_TAKE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
@@ -383,5 +383,5 @@ impl StepBoard {
 }
 
 #[cfg(test)]
-#[path = "half_step_tests.rs"]
+#[path = "step_board_tests.rs"]
 mod tests;
