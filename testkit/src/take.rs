@@ -1,10 +1,12 @@
 //! The engine tests' one render loop and its measures: a [`Take`] is the stereo output of an
 //! engine over a number of host samples, with the events of the first block (a note, an
-//! expression) sent with that block, and its peak and RMS levels.
+//! expression) sent with that block ([`render`]), or a script of events at any host samples
+//! with a look at the engine after every block ([`render_script`]), and its peak and RMS
+//! levels.
 //!
 //! Test thread (allocates the take; the engine's blocks themselves allocate nothing).
 
-use noether_core::engine::{Engine, Event};
+use noether_core::engine::{Engine, Event, EventKind};
 
 /// The stereo output of a render (host rate, the engine's output units).
 #[derive(Debug, Clone, PartialEq)]
@@ -25,6 +27,40 @@ pub fn render(e: &mut Engine, first: &[Event], samples: usize, block: usize) -> 
         .enumerate()
     {
         e.process_events(if k == 0 { first } else { &[] }, l, r);
+    }
+    Take { left, right }
+}
+
+/// Renders `samples` host samples of `e` in blocks of `block` (the last one shorter if
+/// `samples` is not a multiple), sending each `(sample, event)` of `script` (sorted by
+/// sample) in the block that holds its sample, at its offset there, and calling `after(e,
+/// end)` after each block with the host sample the block ended at. Events past the render are
+/// not sent.
+pub fn render_script(
+    e: &mut Engine,
+    script: &[(usize, EventKind)],
+    samples: usize,
+    block: usize,
+    mut after: impl FnMut(&mut Engine, usize),
+) -> Take {
+    let (mut left, mut right) = (vec![0.0f32; samples], vec![0.0f32; samples]);
+    let block = block.max(1);
+    let mut next = 0;
+    let mut events = Vec::with_capacity(script.len());
+    for (k, (l, r)) in left
+        .chunks_mut(block)
+        .zip(right.chunks_mut(block))
+        .enumerate()
+    {
+        let (start, end) = (k * block, k * block + l.len());
+        events.clear();
+        while next < script.len() && script[next].0 < end {
+            let (at, kind) = script[next];
+            events.push(Event::new(at.saturating_sub(start) as u32, kind));
+            next += 1;
+        }
+        e.process_events(&events, l, r);
+        after(e, end);
     }
     Take { left, right }
 }

@@ -7,6 +7,7 @@
 use noether::engine::ParamId;
 use noether_testkit::performance::{band_levels, engine, strike};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take;
 
 const RATE: f64 = 48_000.0;
 
@@ -86,11 +87,9 @@ fn the_voice_balance_closes_with_the_band_above() {
         "crash",
         &[(ParamId::Polyphony, 1.0), (ParamId::DampingScale, 0.0)],
     );
-    let (mut l, mut r) = (vec![0.0f32; 333], vec![0.0f32; 333]);
-    let mut run = |e: &mut noether::engine::Engine, seconds: f64| {
-        for _ in 0..(seconds * RATE / 333.0).ceil() as usize {
-            e.process(&mut l, &mut r);
-        }
+    let run = |e: &mut noether::engine::Engine, seconds: f64| {
+        let blocks = (seconds * RATE / 333.0).ceil() as usize;
+        take::render(e, &[], blocks * 333, 333);
     };
     run(&mut e, 0.01);
     e.note_on(60, 1.0);
@@ -115,13 +114,20 @@ fn crash_bands_at(rate: f64) -> Vec<(f64, f64)> {
     let params = preset_params("crash", &[(ParamId::Polyphony, 1.0)]);
     let (mut e, _h) = noether::engine::Engine::new(params);
     e.activate(rate, 512).unwrap();
-    let (mut l, mut r) = (vec![0.0f32; 512], vec![0.0f32; 512]);
-    e.note_on(60, 1.0);
-    let mut x = Vec::new();
-    while x.len() < (1.5 * rate) as usize {
-        e.process(&mut l, &mut r);
-        x.extend(l.iter().zip(&r).map(|(a, b)| 0.5 * (a + b)));
-    }
+    let note = noether::engine::Event::new(
+        0,
+        noether::engine::EventKind::NoteOn {
+            key: 60,
+            velocity: 1.0,
+        },
+    );
+    let t = take::render(&mut e, &[note], (1.5 * rate) as usize, 512);
+    let x: Vec<f32> = t
+        .left
+        .iter()
+        .zip(&t.right)
+        .map(|(a, b)| 0.5 * (a + b))
+        .collect();
     let bands = band_levels(&x[(0.3 * rate) as usize..], rate).0;
     let mid: Vec<f64> = bands
         .iter()

@@ -4,8 +4,9 @@
 //! energy up its modes within the first second (the lecture's shimmer).
 
 use noether::analysis::spectrogram::spectrogram;
-use noether::engine::{Engine, ParamId};
+use noether::engine::{Engine, Event, EventKind, ParamId};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take;
 
 /// Share of the left channel's spectral energy above `f_cut` Hz over the first second of a
 /// full-velocity note at the root key of `preset` (with `in_plane` in-plane modes; 0 is the
@@ -15,14 +16,9 @@ fn high_share(preset: &str, in_plane: f32, f_cut: f64) -> (f64, Option<f64>) {
     let params = preset_params(preset, &[(ParamId::InPlaneModes, in_plane)]);
     let (mut e, _h) = Engine::new(params.clone());
     e.activate(48_000.0, 512).unwrap();
-    let root = params.get(ParamId::RootKey) as u8;
-    e.note_on(root, 1.0);
-    let n = 48_000;
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (cl, cr) in l.chunks_mut(512).zip(r.chunks_mut(512)) {
-        e.process(cl, cr);
-    }
-    let x: Vec<f64> = l.iter().map(|&v| v as f64).collect();
+    let key = params.get(ParamId::RootKey) as u8;
+    let note = Event::new(0, EventKind::NoteOn { key, velocity: 1.0 });
+    let x = take::render(&mut e, &[note], 48_000, 512).left_f64();
     let s = spectrogram(&x, 48_000.0, 2048, 1024);
     let (mut high, mut all) = (0.0, 0.0);
     let mut first = None;

@@ -4,7 +4,7 @@
 //! the force pulse (`exciter = pulse`) velocity only scales the force. The mallet at the
 //! table's extremes (mass, hardness, speed) stays finite and within the limiter's ceiling.
 
-use noether::engine::{Engine, ParamId, SharedParams, CEILING};
+use noether::engine::{Engine, EventKind, ParamId, SharedParams, CEILING};
 use noether_testkit::presets::preset_params;
 use noether_testkit::take::{self, peak};
 
@@ -145,20 +145,21 @@ fn mallet_extremes_stay_within_the_ceiling() {
         let (mut e, _h) = Engine::new(params);
         assert!(e.activate(RATE, BLOCK).unwrap().is_none());
         let n = (0.5 * RATE) as usize;
-        let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-        for (k, (cl, cr)) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)).enumerate() {
-            // Four notes, the last a re-strike of the sounding key 60.
-            if k % 16 == 0 && k < 64 {
-                e.note_on([60, 48, 72, 60][k / 16], 1.0);
-            }
-            e.process(cl, cr);
-        }
-        let p = peak(&l).max(peak(&r));
+        // Four notes 16 blocks apart, the last a re-strike of the sounding key 60.
+        let script = [60, 48, 72, 60].map(|key| EventKind::NoteOn { key, velocity: 1.0 });
+        let script: Vec<(usize, EventKind)> = script
+            .into_iter()
+            .enumerate()
+            .map(|(i, kind)| (i * 16 * BLOCK, kind))
+            .collect();
+        let t = take::render_script(&mut e, &script, n, BLOCK, |_, _| {});
+        let (l, r) = (&t.left, &t.right);
+        let p = t.peak();
         println!(
             "hardness {hardness}: peak {p}, diverged voices {}",
             e.diverged_voices()
         );
-        assert!(l.iter().chain(&r).all(|x| x.is_finite()));
+        assert!(l.iter().chain(r).all(|x| x.is_finite()));
         assert!(p <= CEILING * 1.000_001, "peak {p}");
         assert!(p > 0.1, "silent: peak {p}");
     }
@@ -181,17 +182,22 @@ fn the_mallet_strikes_again_when_the_plate_catches_it() {
             (ParamId::MalletHardness, hardness),
             (ParamId::MalletSpeed, speed),
         ]);
-        e.note_on(60, 1.0);
-        let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
         let mut at = Vec::new();
         let mut seen = 0;
-        for b in 0..(0.6 * RATE) as usize / BLOCK {
-            e.process(&mut l, &mut r);
+        let note = [(
+            0,
+            EventKind::NoteOn {
+                key: 60,
+                velocity: 1.0,
+            },
+        )];
+        let n = (0.6 * RATE) as usize / BLOCK * BLOCK;
+        take::render_script(&mut e, &note, n, BLOCK, |e, end| {
             if e.mallet_impacts() > seen {
                 seen = e.mallet_impacts();
-                at.push(b as f64 * BLOCK as f64 / RATE);
+                at.push((end - BLOCK) as f64 / RATE);
             }
-        }
+        });
         (e.mallet_impacts(), at)
     };
     for (mass, hardness, speed) in [(2.0, 0.0, 0.5), (0.5, 0.5, 2.0), (0.05, 0.5, 2.0)] {

@@ -6,7 +6,8 @@
 //! stage as shipped (low cut on, limiter on: its ceiling is -0.3 dBFS, so a preset relying on
 //! it would fail the -1 dBFS bound).
 
-use noether::engine::{Engine, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, EventKind, ParamId, Preset, SharedParams};
+use noether_testkit::take;
 use std::sync::Arc;
 
 const RATE: f64 = 48_000.0;
@@ -32,7 +33,6 @@ pub fn note_peak(
     params.set(ParamId::Polyphony, 1.0).unwrap();
     let (mut e, _h) = Engine::new(params);
     assert!(e.activate(RATE, BLOCK).unwrap().is_none());
-    e.note_on(key, f32::from(vel) / 127.0);
     // Whole blocks: the note-off falls on a block boundary.
     let held = (seconds * RATE) as usize / BLOCK * BLOCK;
     let n = held
@@ -41,16 +41,16 @@ pub fn note_peak(
         } else {
             0
         };
-    let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-    for (k, (cl, cr)) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)).enumerate() {
-        if k * BLOCK == held {
-            e.note_off(key);
-        }
-        e.process(cl, cr);
-    }
-    assert!(l.iter().chain(&r).all(|x| x.is_finite()));
+    let velocity = f32::from(vel) / 127.0;
+    let script = [
+        (0, EventKind::NoteOn { key, velocity }),
+        (held, EventKind::NoteOff { key }),
+    ];
+    let t = take::render_script(&mut e, &script, n, BLOCK, |_, _| {});
+    let (l, r) = (&t.left, &t.right);
+    assert!(l.iter().chain(r).all(|x| x.is_finite()));
     let peak = |a: &[f32], b: &[f32]| {
-        let p = a.iter().chain(b).fold(0.0f32, |m, x| m.max(x.abs()));
+        let p = take::peak(a).max(take::peak(b));
         20.0 * f64::from(p).max(1e-12).log10()
     };
     let tail = n - (0.1 * RATE) as usize;
@@ -89,13 +89,15 @@ fn plate_presets_have_no_sub_audio_rumble() {
         params.set(ParamId::Polyphony, 1.0).unwrap();
         let (mut e, _h) = Engine::new(params);
         e.activate(RATE, BLOCK).unwrap();
-        e.note_on(36, 1.0);
         let n = (2.0 * RATE) as usize / BLOCK * BLOCK;
-        let (mut l, mut r) = (vec![0.0f32; n], vec![0.0f32; n]);
-        for (cl, cr) in l.chunks_mut(BLOCK).zip(r.chunks_mut(BLOCK)) {
-            e.process(cl, cr);
-        }
-        let share = share_below(&l, 20.0);
+        let note = noether::engine::Event::new(
+            0,
+            EventKind::NoteOn {
+                key: 36,
+                velocity: 1.0,
+            },
+        );
+        let share = share_below(&take::render(&mut e, &[note], n, BLOCK).left, 20.0);
         println!(
             "{stem}: {:.2} % of the energy below 20 Hz at key 36",
             100.0 * share

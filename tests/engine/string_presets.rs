@@ -2,10 +2,11 @@
 //! bridge, the sitars buzz (brightness rising after the pluck), and the tanpuras are converged
 //! in their mode count.
 
-use noether::engine::{Engine, ParamId, Preset, SharedParams};
+use noether::engine::{Engine, EventKind, ParamId, Preset, SharedParams};
 use noether::render::metrics::log_spectral_distance;
 use noether::render::preset_accuracy::{render_preset, with_overrides};
 use noether::render::report::spectral_centroid;
+use noether_testkit::take;
 use std::sync::Arc;
 
 const RATE: f64 = 48_000.0;
@@ -23,19 +24,17 @@ fn play(preset: &Preset, key: u8, vel: u8) -> (Vec<f64>, f64) {
     params.set(ParamId::Threads, 1.0).unwrap();
     let (mut e, _h) = Engine::new(params);
     e.activate(RATE, BLOCK).unwrap();
-    e.note_on(key, f32::from(vel) / 127.0);
+    let velocity = f32::from(vel) / 127.0;
     let n = (0.3 * RATE) as usize;
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    let (mut left, mut share) = (Vec::with_capacity(n), 0.0f64);
-    while left.len() < n {
-        e.process(&mut l, &mut r);
-        left.extend(l.iter().map(|&x| f64::from(x)));
+    let mut share = 0.0f64;
+    let note = [(0, EventKind::NoteOn { key, velocity })];
+    let t = take::render_script(&mut e, &note, n, BLOCK, |e, _| {
         let t = e.voice_energy(0).expect("the note sounds for 0.3 s");
         if t.nonlinear > 0.0 {
             share = share.max(t.nonlinear / t.total());
         }
-    }
-    (left, share)
+    });
+    (t.left_f64(), share)
 }
 
 /// Spectral centroid (Hz) of each 50 ms window of `x` (six over 0.3 s).
