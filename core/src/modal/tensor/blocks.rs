@@ -434,19 +434,23 @@ impl BlockLayout {
         }
     }
 
-    /// Fused `eta[l] = Σ_{ij} H^l_{ij} q_i q_j` and `grad = ∇_q Σ_l w_l eta_l²
-    /// (= 4 Σ_l w_l eta_l H^l q)` over the rows `rows` of the tensor, each row read once:
+    /// Fused `eta[l] = Σ_{ij} H^l_{ij} q_i q_j` and `grad = ∇_q Σ_l w_l (eta_l - c_l)²
+    /// (= 4 Σ_l w_l (eta_l - c_l) H^l q)` over the rows `rows` of the tensor, each row read
+    /// once, with the offsets `c = shift` (whole length `N_Ψ`; `None` is `c = 0`, the flat
+    /// plate, bit for bit as without it; a curved plate's `c_l = Ĥ(a, a)_l`):
     /// `eta` holds `eta[l - rows.start]` for `l` in `rows` (length `rows.len()`), `w` is the
     /// whole weight vector, and `grad` receives `4 Σ_{l ∈ rows} w_l eta_l H^l q` only (the
     /// gradients of a partition of `0..N_Ψ` add up to the whole). `scratch` of length
     /// ≥ `3 N_Φ + 2 PAD` (permuted `q`, `H^l q`, permuted gradient). Audio thread or a worker
     /// sharing one step, allocation-free. Runs the AVX2 + FMA instantiation when the CPU has
     /// both (detected at build, [`Self::new`]).
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn quartic_gradient_rows(
         &self,
         rows: std::ops::Range<usize>,
         q: &[f64],
         w: &[f64],
+        shift: Option<&[f64]>,
         eta: &mut [f64],
         grad: &mut [f64],
         scratch: &mut [f64],
@@ -454,34 +458,38 @@ impl BlockLayout {
         #[cfg(target_arch = "x86_64")]
         if self.avx2_fma {
             // SAFETY: `avx2_fma` is set only when the running CPU reports both features.
-            unsafe { self.quartic_avx2(rows, q, w, eta, grad, scratch) };
+            unsafe { self.quartic_avx2(rows, q, w, shift, eta, grad, scratch) };
             return;
         }
-        self.quartic::<false>(rows, q, w, eta, grad, scratch);
+        self.quartic::<false>(rows, q, w, shift, eta, grad, scratch);
     }
 
     /// [`Self::quartic`] compiled for AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
+    #[allow(clippy::too_many_arguments)]
     unsafe fn quartic_avx2(
         &self,
         rows: std::ops::Range<usize>,
         q: &[f64],
         w: &[f64],
+        shift: Option<&[f64]>,
         eta: &mut [f64],
         grad: &mut [f64],
         scratch: &mut [f64],
     ) {
-        self.quartic::<true>(rows, q, w, eta, grad, scratch);
+        self.quartic::<true>(rows, q, w, shift, eta, grad, scratch);
     }
 
     /// The body of [`Self::quartic_gradient_rows`] (`FMA`: fused multiply-adds).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn quartic<const FMA: bool>(
         &self,
         rows: std::ops::Range<usize>,
         q: &[f64],
         w: &[f64],
+        shift: Option<&[f64]>,
         eta: &mut [f64],
         grad: &mut [f64],
         scratch: &mut [f64],
@@ -504,7 +512,10 @@ impl BlockLayout {
                 e += dot::<FMA>(&qp[r.clone()], &v[r]);
             }
             *el = e;
-            let k = 4.0 * wl * e;
+            let k = match shift {
+                None => 4.0 * wl * e,
+                Some(c) => 4.0 * wl * (e - c[l]),
+            };
             if k == 0.0 {
                 continue;
             }

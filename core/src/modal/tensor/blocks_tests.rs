@@ -100,7 +100,7 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     runs.quartic_gradient(&q, &w, &mut eta_r, &mut grad_r, &mut scratch);
     // Both instantiations (plain and fused multiply-add), whatever this CPU has.
     let (mut eta_p, mut grad_p) = (vec![0.0; np], vec![0.0; nf]);
-    blocks.quartic::<false>(0..np, &q, &w, &mut eta_p, &mut grad_p, &mut scratch);
+    blocks.quartic::<false>(0..np, &q, &w, None, &mut eta_p, &mut grad_p, &mut scratch);
     // The FMA instantiation runs AVX2 intrinsics on x86-64 (single storage): only where the
     // CPU has them (the layout's own dispatch otherwise).
     #[cfg(target_arch = "x86_64")]
@@ -108,10 +108,42 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     #[cfg(not(target_arch = "x86_64"))]
     let fma = true;
     if fma {
-        blocks.quartic::<true>(0..np, &q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+        blocks.quartic::<true>(0..np, &q, &w, None, &mut eta_b, &mut grad_b, &mut scratch);
     } else {
-        blocks.quartic_gradient_rows(0..np, &q, &w, &mut eta_b, &mut grad_b, &mut scratch);
+        blocks.quartic_gradient_rows(0..np, &q, &w, None, &mut eta_b, &mut grad_b, &mut scratch);
     }
+    // The shifted quartic (a curved plate's `Σ_l w_l (eta_l - c_l)²`): zero offsets are the
+    // plain kernel bit for bit; random offsets are checked against the direct sums below.
+    let c: Vec<f64> = (0..np).map(|_| lcg(&mut seed) - 0.5).collect();
+    let (mut eta_c, mut grad_c) = (vec![0.0; np], vec![0.0; nf]);
+    let (mut eta_z, mut grad_z) = (vec![0.0; np], vec![0.0; nf]);
+    let (mut eta_n, mut grad_n) = (vec![0.0; np], vec![0.0; nf]);
+    let zeros = vec![0.0; np];
+    blocks.quartic_gradient_rows(
+        0..np,
+        &q,
+        &w,
+        Some(&c),
+        &mut eta_c,
+        &mut grad_c,
+        &mut scratch,
+    );
+    blocks.quartic_gradient_rows(
+        0..np,
+        &q,
+        &w,
+        Some(&zeros),
+        &mut eta_z,
+        &mut grad_z,
+        &mut scratch,
+    );
+    blocks.quartic_gradient_rows(0..np, &q, &w, None, &mut eta_n, &mut grad_n, &mut scratch);
+    assert_eq!(
+        (&eta_z, &grad_z),
+        (&eta_n, &grad_n),
+        "zero offsets change the bits"
+    );
+    assert_eq!(eta_c, eta_n, "the offsets change eta");
     // Direct: dense H^l from the entries.
     let mut h = vec![0.0; np * nf * nf];
     for l in 0..np {
@@ -126,13 +158,14 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
     let m = np / 3;
     let (mut eta_s, mut grad_s, mut grad_s2) = (vec![0.0; np], vec![0.0; nf], vec![0.0; nf]);
     let (e1, e2) = eta_s.split_at_mut(m);
-    blocks.quartic_gradient_rows(0..m, &q, &w, e1, &mut grad_s, &mut scratch);
-    blocks.quartic_gradient_rows(m..np, &q, &w, e2, &mut grad_s2, &mut scratch);
+    blocks.quartic_gradient_rows(0..m, &q, &w, None, e1, &mut grad_s, &mut scratch);
+    blocks.quartic_gradient_rows(m..np, &q, &w, None, e2, &mut grad_s2, &mut scratch);
     for (g, g2) in grad_s.iter_mut().zip(&grad_s2) {
         *g += g2;
     }
     let mut grad_d = vec![0.0; nf];
     let mut gscale = vec![0.0; nf];
+    let (mut grad_dc, mut gscale_c) = (vec![0.0; nf], vec![0.0; nf]);
     for l in 0..np {
         let hq: Vec<f64> = (0..nf)
             .map(|s| (0..nf).map(|k| h[(l * nf + s) * nf + k] * q[k]).sum())
@@ -162,7 +195,17 @@ fn check_block_kernel(nf: usize, np: usize, k: u32, mut seed: u64, single: bool)
         for s in 0..nf {
             grad_d[s] += 4.0 * w[l] * eta * hq[s];
             gscale[s] += 4.0 * w[l] * escale * habs[s];
+            grad_dc[s] += 4.0 * w[l] * (eta - c[l]) * hq[s];
+            gscale_c[s] += 4.0 * w[l] * (escale + c[l].abs()) * habs[s];
         }
+    }
+    for s in 0..nf {
+        assert!(
+            (grad_c[s] - grad_dc[s]).abs() <= 1e-13 * gscale_c[s],
+            "shifted grad {s}: {} vs {}",
+            grad_c[s],
+            grad_dc[s]
+        );
     }
     for s in 0..nf {
         assert!(

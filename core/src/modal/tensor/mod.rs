@@ -340,7 +340,46 @@ impl CouplingTensor {
         assert_eq!(w.len(), self.n_psi, "quartic_gradient_rows: w length");
         assert_eq!(eta.len(), rows.len(), "quartic_gradient_rows: eta length");
         self.blocks
-            .quartic_gradient_rows(rows, q, w, eta, grad, scratch);
+            .quartic_gradient_rows(rows, q, w, None, eta, grad, scratch);
+    }
+
+    /// [`Self::quartic_gradient_rows`] of the shifted quartic `Σ_l w_l (eta_l - c_l)²`, whose
+    /// gradient is `4 Σ_{l ∈ rows} w_l (eta_l - c_l) H^l q` (`eta` is still the unshifted
+    /// `Σ_{ij} H^l_{ij} q_i q_j`). With `q = r = q + a` and `c_l = Ĥ(a, a)_l` it is the
+    /// potential of a plate with the rest shape `a` (`models/plate/model/rest_shape.rs`), in the
+    /// same single pass over the tensor as the flat plate's. `shift` of length `N_Ψ`; otherwise
+    /// as [`Self::quartic_gradient_rows`]. Allocation-free, audio thread or a worker sharing
+    /// its step.
+    #[allow(clippy::too_many_arguments)]
+    pub fn quartic_gradient_rows_shifted(
+        &self,
+        rows: std::ops::Range<usize>,
+        q: &[f64],
+        w: &[f64],
+        shift: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        assert_eq!(
+            shift.len(),
+            self.n_psi,
+            "quartic_gradient_rows: shift length"
+        );
+        assert!(
+            rows.start <= rows.end && rows.end <= self.n_psi,
+            "quartic_gradient_rows: rows"
+        );
+        assert_eq!(q.len(), self.n_phi, "quartic_gradient_rows: q length");
+        assert_eq!(grad.len(), self.n_phi, "quartic_gradient_rows: grad length");
+        assert!(
+            scratch.len() >= self.quartic_scratch_len(),
+            "quartic_gradient_rows: scratch length"
+        );
+        assert_eq!(w.len(), self.n_psi, "quartic_gradient_rows: w length");
+        assert_eq!(eta.len(), rows.len(), "quartic_gradient_rows: eta length");
+        self.blocks
+            .quartic_gradient_rows(rows, q, w, Some(shift), eta, grad, scratch);
     }
 
     /// The row `m` that splits the tensor's stored entries most evenly into rows `0..m` and

@@ -103,6 +103,24 @@ pub trait ModalCoupling: Send + Sync {
     ) -> bool {
         false
     }
+    /// Optional: [`Self::quartic_gradient_rows`] of the shifted quartic
+    /// `Σ_l w_l (eta_l - c_l)²` (`c = shift`, length `N_Ψ`): `grad` gets
+    /// `4 Σ_{l ∈ rows} w_l (eta_l - c_l) Σ_k H^l_{s,k} q_k`, `eta` the unshifted contraction.
+    /// A curved plate's potential at `q = r = q + a` with `c_l = Ĥ(a, a)_l`. Returns `false`
+    /// without writing anything when the implementation has none (the default).
+    #[allow(clippy::too_many_arguments)]
+    fn quartic_gradient_shifted_rows(
+        &self,
+        _rows: std::ops::Range<usize>,
+        _q: &[f64],
+        _w: &[f64],
+        _shift: &[f64],
+        _eta: &mut [f64],
+        _grad: &mut [f64],
+        _scratch: &mut [f64],
+    ) -> bool {
+        false
+    }
     /// The in-plane row that splits [`Self::quartic_gradient_rows`]'s work in two halves
     /// (default `N_Ψ / 2`).
     fn split_row(&self) -> usize {

@@ -255,16 +255,26 @@ impl SavStep {
         )
     }
 
-    /// The fused kernel `w = Ĥ(q,q)`, `g = ∇U(q)` as one pass or two halves (see
+    /// The fused kernel `w = Ĥ(q,q)`, `g = 4 Σ_l u_l (w_l - c_l) Ĥ^l q` (`c = shift`, a curved
+    /// plate's offsets at `q = r`; `None`: 0) as one pass or two halves (see
     /// [`Self::set_join`]); `false` when the coupling has no fused kernel.
     fn fused_gradient<C: ModalCoupling + ?Sized>(
         &mut self,
         coupling: &C,
         q: &[f64],
         u_coef: &[f64],
+        shift: Option<&[f64]>,
     ) -> bool {
+        let rows =
+            |c: &C, r: std::ops::Range<usize>, w: &mut [f64], g: &mut [f64], y: &mut [f64]| {
+                match shift {
+                    None => c.quartic_gradient_rows(r, q, u_coef, w, g, y),
+                    Some(s) => c.quartic_gradient_shifted_rows(r, q, u_coef, s, w, g, y),
+                }
+            };
         let Some(split) = self.split.as_mut() else {
-            return coupling.quartic_gradient(q, u_coef, &mut self.w, &mut self.g, &mut self.y);
+            let np = self.w.len();
+            return rows(coupling, 0..np, &mut self.w, &mut self.g, &mut self.y);
         };
         let np = self.w.len();
         let row = split.row;
@@ -274,17 +284,17 @@ impl SavStep {
         let (mut ok_a, mut ok_b) = (false, false);
         match &split.runner {
             HalfRunner::Join(join) => join.join(
-                &mut || ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a),
-                &mut || ok_b = coupling.quartic_gradient_rows(row..np, q, u_coef, w_b, g_b, y_b),
+                &mut || ok_a = rows(coupling, 0..row, w_a, g_a, y_a),
+                &mut || ok_b = rows(coupling, row..np, w_b, g_b, y_b),
             ),
             HalfRunner::Board { board, job } => {
-                let offered = job.offer(board, q, u_coef);
+                let offered = job.offer(board, q, u_coef, shift);
                 let start = Instant::now();
-                ok_a = coupling.quartic_gradient_rows(0..row, q, u_coef, w_a, g_a, y_a);
+                ok_a = rows(coupling, 0..row, w_a, g_a, y_a);
                 if offered {
-                    job.finish(board, start.elapsed(), q, u_coef, w_b, g_b, y_b);
+                    job.finish(board, start.elapsed(), q, u_coef, shift, w_b, g_b, y_b);
                 } else {
-                    job.run_here(q, u_coef, w_b, g_b, y_b);
+                    job.run_here(q, u_coef, shift, w_b, g_b, y_b);
                 }
                 ok_b = true;
             }
@@ -373,13 +383,18 @@ impl SavStep {
         };
         let mut shift = 0.0;
         // g = ∇U / √(2U), ∇U_s = Σ_l 4 u_l Ĥ(q,q)_l Σ_k Ĥ^l_{s,k} q_k (fused kernel when the
-        // coupling has one, else two passes; a curved plate takes the two passes at r with
-        // Ĥ(r,r) - c).
+        // coupling has one, else two passes; a curved plate's at r with Ĥ(r,r) - c, the fused
+        // kernel shifting each row by its c_l).
         let psi_q = if self.w.is_empty() {
             self.g.fill(0.0);
             0.0
         } else if let Some((r, c)) = rest {
-            coupling.contract_eta(r, r, &mut self.w);
+            // A curved plate: w = Ĥ(r,r) - c. The fused kernel gives Ĥ(r,r) and
+            // g = 4 Σ u (Ĥ(r,r) - c) Ĥ r in one pass; else two passes.
+            let fused = self.fused_gradient(coupling, r, k.u_coef, Some(c));
+            if !fused {
+                coupling.contract_eta(r, r, &mut self.w);
+            }
             for (w, &c) in self.w.iter_mut().zip(c) {
                 *w -= c;
             }
@@ -391,7 +406,12 @@ impl SavStep {
                 .map(|((e, c), u)| u * e * c)
                 .sum();
             let psi_q = Self::psi_from(k.u_coef, &self.w);
-            if psi_q > 0.0 {
+            if fused {
+                let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };
+                for g in self.g.iter_mut() {
+                    *g *= inv;
+                }
+            } else if psi_q > 0.0 {
                 let inv = 4.0 / psi_q;
                 for (w, &u) in self.w.iter_mut().zip(k.u_coef) {
                     *w *= u * inv;
@@ -401,7 +421,7 @@ impl SavStep {
                 self.g.fill(0.0);
             }
             psi_q
-        } else if self.fused_gradient(coupling, q, k.u_coef) {
+        } else if self.fused_gradient(coupling, q, k.u_coef, None) {
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };
             for g in self.g.iter_mut() {

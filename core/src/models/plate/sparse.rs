@@ -54,6 +54,19 @@ impl ModalCoupling for CouplingTensor {
         CouplingTensor::quartic_gradient_rows(self, rows, q, w, eta, grad, scratch);
         true
     }
+    fn quartic_gradient_shifted_rows(
+        &self,
+        rows: std::ops::Range<usize>,
+        q: &[f64],
+        w: &[f64],
+        shift: &[f64],
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) -> bool {
+        CouplingTensor::quartic_gradient_rows_shifted(self, rows, q, w, shift, eta, grad, scratch);
+        true
+    }
     fn split_row(&self) -> usize {
         CouplingTensor::split_row(self)
     }

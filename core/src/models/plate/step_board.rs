@@ -60,24 +60,37 @@ const TAKEN: u8 = 2;
 const DONE: u8 = 3;
 
 /// The kernel of the coupling type a job was built for, behind a type-erased pointer.
-type KernelFn =
-    unsafe fn(*const (), Range<usize>, &[f64], &[f64], &mut [f64], &mut [f64], &mut [f64]) -> bool;
+type KernelFn = unsafe fn(
+    *const (),
+    Range<usize>,
+    &[f64],
+    &[f64],
+    Option<&[f64]>,
+    &mut [f64],
+    &mut [f64],
+    &mut [f64],
+) -> bool;
 
 /// # Safety
 ///
 /// `c` must point to a live `C`.
+#[allow(clippy::too_many_arguments)]
 unsafe fn kernel_of<C: ModalCoupling>(
     c: *const (),
     rows: Range<usize>,
     q: &[f64],
     w: &[f64],
+    shift: Option<&[f64]>,
     eta: &mut [f64],
     g: &mut [f64],
     y: &mut [f64],
 ) -> bool {
     // SAFETY: the caller's contract.
     let c = unsafe { &*(c as *const C) };
-    c.quartic_gradient_rows(rows, q, w, eta, g, y)
+    match shift {
+        None => c.quartic_gradient_rows(rows, q, w, eta, g, y),
+        Some(s) => c.quartic_gradient_shifted_rows(rows, q, w, s, eta, g, y),
+    }
 }
 
 /// The job's buffers: inputs written by the owner before `POSTED`, outputs written by the
@@ -85,6 +98,9 @@ unsafe fn kernel_of<C: ModalCoupling>(
 struct Buffers {
     q: Box<[f64]>,
     w: Box<[f64]>,
+    /// The in-plane offsets of a curved plate's quartic (`shifted`), else unused.
+    shift: Box<[f64]>,
+    shifted: bool,
     eta: Box<[f64]>,
     g: Box<[f64]>,
     y: Box<[f64]>,
@@ -144,6 +160,8 @@ impl HalfJob {
             buf: UnsafeCell::new(Buffers {
                 q: vec![0.0; n_phi].into(),
                 w: vec![0.0; n_psi].into(),
+                shift: vec![0.0; n_psi].into(),
+                shifted: false,
                 eta: vec![0.0; rows.len()].into(),
                 g: vec![0.0; n_phi].into(),
                 y: vec![0.0; y_len].into(),
@@ -166,11 +184,13 @@ impl HalfJob {
         // POSTED, after its writes of `q` and `w`. The coupling outlives the job.
         unsafe {
             let b = &mut *self.buf.get();
+            let shift = b.shifted.then_some(&b.shift[..]);
             (self.kernel)(
                 self.coupling,
                 self.rows.clone(),
                 &b.q,
                 &b.w,
+                shift,
                 &mut b.eta,
                 &mut b.g,
                 &mut b.y,
@@ -180,11 +200,18 @@ impl HalfJob {
         true
     }
 
-    /// Owner, step 1: offers the half for `q` and in-plane weights `w` on `board`. Returns
+    /// Owner, step 1: offers the half for `q`, in-plane weights `w` and (a curved plate) the
+    /// quartic's offsets `shift` on `board`. Returns
     /// whether it is posted (or already taken: see below), to be ended by [`Self::finish`];
     /// `false` (run the half yourself) when the board is closed or holds another job, or this
     /// job is still out with a late helper.
-    pub(crate) fn offer(&self, board: &StepBoard, q: &[f64], w: &[f64]) -> bool {
+    pub(crate) fn offer(
+        &self,
+        board: &StepBoard,
+        q: &[f64],
+        w: &[f64],
+        shift: Option<&[f64]>,
+    ) -> bool {
         if !board.open.load(Ordering::Relaxed) {
             return false;
         }
@@ -199,6 +226,10 @@ impl HalfJob {
             let b = unsafe { &mut *self.buf.get() };
             b.q.copy_from_slice(q);
             b.w.copy_from_slice(w);
+            b.shifted = shift.is_some();
+            if let Some(s) = shift {
+                b.shift.copy_from_slice(s);
+            }
         }
         self.state.store(POSTED, Ordering::Release);
         #[cfg(test)]
@@ -238,6 +269,7 @@ impl HalfJob {
         own: Duration,
         q: &[f64],
         w: &[f64],
+        shift: Option<&[f64]>,
         eta: &mut [f64],
         g: &mut [f64],
         y: &mut [f64],
@@ -254,7 +286,7 @@ impl HalfJob {
             .compare_exchange(POSTED, IDLE, Ordering::Acquire, Ordering::Relaxed)
             .is_ok()
         {
-            self.run_here(q, w, eta, g, y);
+            self.run_here(q, w, shift, eta, g, y);
             return HalfOutcome::Own;
         }
         // TAKEN or DONE: a helper has it. Wait a bounded time.
@@ -278,7 +310,7 @@ impl HalfJob {
         }
         // The helper is late: compute the half here; the job stays with the helper.
         board.late.fetch_add(1, Ordering::Relaxed);
-        self.run_here(q, w, eta, g, y);
+        self.run_here(q, w, shift, eta, g, y);
         HalfOutcome::Late
     }
 
@@ -287,12 +319,13 @@ impl HalfJob {
         &self,
         q: &[f64],
         w: &[f64],
+        shift: Option<&[f64]>,
         eta: &mut [f64],
         g: &mut [f64],
         y: &mut [f64],
     ) {
         // SAFETY: the coupling outlives the job, and the job is the model's.
-        let ok = unsafe { (self.kernel)(self.coupling, self.rows.clone(), q, w, eta, g, y) };
+        let ok = unsafe { (self.kernel)(self.coupling, self.rows.clone(), q, w, shift, eta, g, y) };
         debug_assert!(ok, "the split kernel was probed at build");
     }
 

@@ -65,7 +65,7 @@ fn job() -> Box<HalfJob> {
 /// The half computed here, for comparison: `(eta, g)`.
 fn reference(job: &HalfJob, q: &[f64], w: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
-    job.run_here(q, w, &mut eta, &mut g, &mut y);
+    job.run_here(q, w, None, &mut eta, &mut g, &mut y);
     (eta, g)
 }
 
@@ -83,11 +83,20 @@ fn until_taken(job: &HalfJob) {
 fn without_a_helper_the_owner_runs_the_half() {
     let (board, job) = (StepBoard::new(), job());
     let (q, w) = ([1.0, 2.0, 3.0], [0.5, 0.0, 0.0, 0.0]);
-    assert!(!job.offer(&board, &q, &w), "closed board");
+    assert!(!job.offer(&board, &q, &w, None), "closed board");
     board.set_open(true);
-    assert!(job.offer(&board, &q, &w));
+    assert!(job.offer(&board, &q, &w, None));
     let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
-    let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+    let out = job.finish(
+        &board,
+        Duration::ZERO,
+        &q,
+        &w,
+        None,
+        &mut eta,
+        &mut g,
+        &mut y,
+    );
     assert_eq!(out, HalfOutcome::Own);
     assert_eq!((eta, g), reference(&job, &q, &w));
     assert_eq!(
@@ -119,9 +128,9 @@ fn a_helper_runs_the_half_with_the_same_bits() {
     for k in 0..200 {
         let q = [k as f64, 0.25 * k as f64, -1.0];
         let w = [1.0 + k as f64, 0.0, 0.0, 0.0];
-        assert!(job.offer(&board, &q, &w));
+        assert!(job.offer(&board, &q, &w, None));
         assert!(
-            !other.offer(&board, &q, &w),
+            !other.offer(&board, &q, &w, None),
             "one job on the board at a time"
         );
         until_taken(&job);
@@ -131,6 +140,7 @@ fn a_helper_runs_the_half_with_the_same_bits() {
             Duration::from_secs(10),
             &q,
             &w,
+            None,
             &mut eta,
             &mut g,
             &mut y,
@@ -152,7 +162,7 @@ fn a_late_helper_is_not_waited_for() {
     board.set_open(true);
     let job = job();
     let (q, w) = ([1.0, -2.0, 0.5], [3.0, 0.0, 0.0, 0.0]);
-    assert!(job.offer(&board, &q, &w));
+    assert!(job.offer(&board, &q, &w, None));
     let job_ptr = &*job as *const HalfJob as usize;
     let helper = {
         let board = board.clone();
@@ -167,16 +177,28 @@ fn a_late_helper_is_not_waited_for() {
     };
     until_taken(&job);
     let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
-    let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+    let out = job.finish(
+        &board,
+        Duration::ZERO,
+        &q,
+        &w,
+        None,
+        &mut eta,
+        &mut g,
+        &mut y,
+    );
     assert_eq!(out, HalfOutcome::Late);
     assert!(job.is_out(), "the owner did not wait for the held helper");
     assert_eq!((eta, g), reference(&job, &q, &w));
     assert_eq!(board.late_halves(), 1);
-    assert!(!job.offer(&board, &q, &w), "the job is still out");
+    assert!(!job.offer(&board, &q, &w, None), "the job is still out");
     RELEASE.store(true, Ordering::Release);
     helper.join().unwrap();
     assert!(!job.is_out());
-    assert!(job.offer(&board, &q, &w), "the job is the owner's again");
+    assert!(
+        job.offer(&board, &q, &w, None),
+        "the job is the owner's again"
+    );
 }
 
 /// A helper that still holds a job's pointer from an earlier step (it reaches the job,
@@ -191,15 +213,24 @@ fn a_helper_with_a_stale_pointer_is_waited_for() {
     let (job, blocker) = (job(), job());
     let (q, w) = ([1.0, 2.0, 3.0], [0.5, 0.0, 0.0, 0.0]);
     assert!(
-        blocker.offer(&board, &q, &w),
+        blocker.offer(&board, &q, &w, None),
         "the board is held by another job"
     );
     STALE_TAKE.with(|s| s.set(true));
-    let offered = job.offer(&board, &q, &w);
+    let offered = job.offer(&board, &q, &w, None);
     STALE_TAKE.with(|s| s.set(false));
     assert!(offered, "a taken job must be finished, not given up");
     let (mut eta, mut g, mut y) = (vec![0.0; 2], vec![0.0; 3], vec![0.0; 8]);
-    let out = job.finish(&board, Duration::ZERO, &q, &w, &mut eta, &mut g, &mut y);
+    let out = job.finish(
+        &board,
+        Duration::ZERO,
+        &q,
+        &w,
+        None,
+        &mut eta,
+        &mut g,
+        &mut y,
+    );
     assert_eq!(out, HalfOutcome::Shared);
     assert_eq!((eta, g), reference(&job, &q, &w));
 }
