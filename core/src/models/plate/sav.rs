@@ -128,6 +128,9 @@ struct SavSplit {
     g: Vec<f64>,
     /// The second half's kernel scratch (length `3 N_Φ + 8`).
     y: Vec<f64>,
+    /// Whether the coupling also has the shifted (curved plate) row kernel; a curved step
+    /// without it runs in one pass (or two passes) instead.
+    shifted: bool,
     runner: HalfRunner,
 }
 
@@ -193,10 +196,10 @@ impl SavStep {
     ) -> bool {
         self.split = None;
         let Some(join) = join else { return false };
-        let Some(row) = self.probe_split(coupling) else {
+        let Some((row, shifted)) = self.probe_split(coupling) else {
             return false;
         };
-        self.split = Some(self.new_split(row, HalfRunner::Join(join)));
+        self.split = Some(self.new_split(row, shifted, HalfRunner::Join(join)));
         true
     }
 
@@ -211,34 +214,46 @@ impl SavStep {
     ) -> bool {
         self.split = None;
         let Some(board) = board else { return false };
-        let Some(row) = self.probe_split(&**coupling) else {
+        let Some((row, shifted)) = self.probe_split(&**coupling) else {
             return false;
         };
         let (nf, np) = (self.g.len(), self.w.len());
         let job = HalfJob::new(coupling, row..np, nf, np, self.y.len());
-        self.split = Some(self.new_split(row, HalfRunner::Board { board, job }));
+        self.split = Some(self.new_split(row, shifted, HalfRunner::Board { board, job }));
         true
     }
 
-    /// The split row, if `coupling` has a row-range kernel and there are two in-plane modes.
-    fn probe_split<C: ModalCoupling + ?Sized>(&self, coupling: &C) -> Option<usize> {
+    /// The split row, if `coupling` has a row-range kernel and there are two in-plane modes,
+    /// and whether it has the shifted one too.
+    fn probe_split<C: ModalCoupling + ?Sized>(&self, coupling: &C) -> Option<(usize, bool)> {
         let (nf, np) = (self.g.len(), self.w.len());
         if np < 2 {
             return None;
         }
         let row = coupling.split_row().clamp(1, np - 1);
         let (q, mut g, mut y) = (vec![0.0; nf], vec![0.0; nf], vec![0.0; self.y.len()]);
-        let mut eta = vec![0.0; np - row];
-        coupling
-            .quartic_gradient_rows(row..np, &q, &vec![0.0; np], &mut eta, &mut g, &mut y)
-            .then_some(row)
+        let (mut eta, zeros) = (vec![0.0; np - row], vec![0.0; np]);
+        if !coupling.quartic_gradient_rows(row..np, &q, &zeros, &mut eta, &mut g, &mut y) {
+            return None;
+        }
+        let shifted = coupling.quartic_gradient_shifted_rows(
+            row..np,
+            &q,
+            &zeros,
+            &zeros,
+            &mut eta,
+            &mut g,
+            &mut y,
+        );
+        Some((row, shifted))
     }
 
-    fn new_split(&self, row: usize, runner: HalfRunner) -> SavSplit {
+    fn new_split(&self, row: usize, shifted: bool, runner: HalfRunner) -> SavSplit {
         SavSplit {
             row,
             g: vec![0.0; self.g.len()],
             y: vec![0.0; self.y.len()],
+            shifted,
             runner,
         }
     }
@@ -272,9 +287,12 @@ impl SavStep {
                     Some(s) => c.quartic_gradient_shifted_rows(r, q, u_coef, s, w, g, y),
                 }
             };
-        let Some(split) = self.split.as_mut() else {
-            let np = self.w.len();
-            return rows(coupling, 0..np, &mut self.w, &mut self.g, &mut self.y);
+        let split = match self.split.as_mut() {
+            Some(split) if shift.is_none() || split.shifted => split,
+            _ => {
+                let np = self.w.len();
+                return rows(coupling, 0..np, &mut self.w, &mut self.g, &mut self.y);
+            }
         };
         let np = self.w.len();
         let row = split.row;
