@@ -327,20 +327,7 @@ impl CouplingTensor {
         grad: &mut [f64],
         scratch: &mut [f64],
     ) {
-        assert!(
-            rows.start <= rows.end && rows.end <= self.n_psi,
-            "quartic_gradient_rows: rows"
-        );
-        assert_eq!(q.len(), self.n_phi, "quartic_gradient_rows: q length");
-        assert_eq!(grad.len(), self.n_phi, "quartic_gradient_rows: grad length");
-        assert!(
-            scratch.len() >= self.quartic_scratch_len(),
-            "quartic_gradient_rows: scratch length"
-        );
-        assert_eq!(w.len(), self.n_psi, "quartic_gradient_rows: w length");
-        assert_eq!(eta.len(), rows.len(), "quartic_gradient_rows: eta length");
-        self.blocks
-            .quartic_gradient_rows(rows, q, w, None, eta, grad, scratch);
+        self.quartic_rows_checked(rows, q, w, None, eta, grad, scratch);
     }
 
     /// [`Self::quartic_gradient_rows`] of the shifted quartic `Σ_l w_l (eta_l - c_l)²`, whose
@@ -366,6 +353,22 @@ impl CouplingTensor {
             self.n_psi,
             "quartic_gradient_rows: shift length"
         );
+        self.quartic_rows_checked(rows, q, w, Some(shift), eta, grad, scratch);
+    }
+
+    /// The length checks of [`Self::quartic_gradient_rows`] (and its shifted form), then the
+    /// block kernel with the offsets `shift` (`None`: 0).
+    #[allow(clippy::too_many_arguments)]
+    fn quartic_rows_checked(
+        &self,
+        rows: std::ops::Range<usize>,
+        q: &[f64],
+        w: &[f64],
+        shift: Option<&[f64]>,
+        eta: &mut [f64],
+        grad: &mut [f64],
+        scratch: &mut [f64],
+    ) {
         assert!(
             rows.start <= rows.end && rows.end <= self.n_psi,
             "quartic_gradient_rows: rows"
@@ -379,7 +382,7 @@ impl CouplingTensor {
         assert_eq!(w.len(), self.n_psi, "quartic_gradient_rows: w length");
         assert_eq!(eta.len(), rows.len(), "quartic_gradient_rows: eta length");
         self.blocks
-            .quartic_gradient_rows(rows, q, w, Some(shift), eta, grad, scratch);
+            .quartic_gradient_rows(rows, q, w, shift, eta, grad, scratch);
     }
 
     /// The row `m` that splits the tensor's stored entries most evenly into rows `0..m` and
