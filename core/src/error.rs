@@ -30,6 +30,13 @@ impl ParamError {
             allowed: allowed.into(),
         }
     }
+
+    /// The same error with its field named inside `prefix` (`prefix.field`), for a part
+    /// validated inside a larger structure.
+    pub fn within(mut self, prefix: &str) -> Self {
+        self.field = format!("{prefix}.{}", self.field);
+        self
+    }
 }
 
 impl fmt::Display for ParamError {

@@ -6,6 +6,7 @@
 #[global_allocator]
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
+mod network;
 mod string_alloc;
 mod string_bounce;
 mod string_hand;

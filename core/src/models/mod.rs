@@ -2,8 +2,11 @@
 //!
 //! - [`plate`]: modal von Kármán plate (gongs, plates; SEED.md section 3.1);
 //! - [`string`]: stiff string against a unilateral obstacle (sitar, tanpura), modal exact
-//!   linear scheme with an energy-conserving contact force (SEED.md section 3.2).
+//!   linear scheme with an energy-conserving contact force (SEED.md section 3.2);
+//! - [`network`]: strings seated on a moving bridge, coupled both ways through it (tanpura
+//!   drone, sympathetic strings).
 
+pub mod network;
 pub mod plate;
 pub mod quantity;
 pub mod ranges;

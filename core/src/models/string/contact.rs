@@ -129,7 +129,7 @@ impl ContactLaw {
     /// `Φ'(r)` (N/m²), used only as the Newton slope: Taylor form `ψ''(x)(1/2 + (α-1)t/3)`,
     /// `t = r/x`, when `|r| < 1e-4 x`, else `(ψ'(x+r) - Φ(r))/r`; clamped at ≥ 0 (Φ is
     /// non-decreasing).
-    fn divided_difference_slope(&self, x: f64, r: f64, phi: f64) -> f64 {
+    pub(crate) fn divided_difference_slope(&self, x: f64, r: f64, phi: f64) -> f64 {
         if x > 0.0 && r.abs() < 1e-4 * x {
             self.stiffness_at(x) * (0.5 + (self.exponent - 1.0) * (r / x) / 3.0)
         } else {

@@ -64,6 +64,7 @@ pub mod obstacle;
 pub mod output;
 pub mod params;
 pub mod rows;
+pub mod seat;
 pub mod spec;
 pub mod transform;
 
@@ -76,4 +77,5 @@ pub use obstacle::{Obstacle, SitarBridge};
 pub use output::{OutputChannel, Quantity, Readout};
 pub use params::{Stiffness, StringParams};
 pub use rows::NodeRows;
+pub use seat::SeatSpec;
 pub use transform::ModalMap;

@@ -11,6 +11,7 @@ use super::obstacle::Obstacle;
 use super::output::{FieldView, OutputChannel, ResolvedOutput};
 use super::params::StringParams;
 use super::rows::NodeRows;
+use super::seat::{Seat, SeatSpec};
 use super::transform::ModalMap;
 use crate::error::ParamError;
 use crate::models::sav_relaxation::{RelaxationLedger, SavRelaxation};
@@ -175,11 +176,33 @@ pub struct StiffString {
     steps: u64,
     /// The player's hand (a point damper, [`super::hand_damper`]); `c = 0` without one.
     hand: StringHand,
+    /// How far the bridge under the string has moved the obstacle and the seat at `n` (m,
+    /// along `u`; 0 for a string on a fixed bridge). Written by the network's step.
+    lift_prev: f64,
+    /// The same at `n+1` (m).
+    lift_now: f64,
+    /// The same at the step being computed (m; set by [`Self::solve_contacts`]).
+    lift_next: f64,
+    /// The spring that seats the string on a moving bridge ([`seat`]); `None` on a fixed one.
+    seat: Option<Seat>,
 }
 
 impl StiffString {
     /// Validates `config`, computes the modal coefficients and allocates every buffer.
     pub fn new(config: &StringConfig) -> Result<Self, ParamError> {
+        Self::build(config, None)
+    }
+
+    /// As [`Self::new`], for a string seated on a moving bridge
+    /// ([`crate::models::network`]): a linear spring of `seat.stiffness` ties the node nearest
+    /// to `seat.position` to the bridge, and the obstacle moves with the bridge. The seat's
+    /// node must not be an obstacle node (the error names it). Control thread.
+    pub fn new_seated(config: &StringConfig, seat: &SeatSpec) -> Result<Self, ParamError> {
+        Self::build(config, Some(seat))
+    }
+
+    /// [`Self::new`] and [`Self::new_seated`].
+    fn build(config: &StringConfig, seat: Option<&SeatSpec>) -> Result<Self, ParamError> {
         let p = &config.params;
         p.validate()?;
         config.contact.validate()?;
@@ -198,7 +221,11 @@ impl StiffString {
             .map(|(i, o)| o.resolve(p, i))
             .collect::<Result<Vec<_>, _>>()?;
         let h2 = h * h;
-        let (rows, synthesis) = Self::stored_rows(p, &samples, &outputs);
+        let seat_node = match seat {
+            Some(spec) => Some(spec.node(p, &samples)?),
+            None => None,
+        };
+        let (rows, synthesis) = Self::stored_rows(p, &samples, seat_node, &outputs);
         Ok(Self {
             params: p.clone(),
             h,
@@ -248,6 +275,13 @@ impl StiffString {
             steps: 0,
             start_index: 0,
             hand: StringHand::new(m),
+            lift_prev: 0.0,
+            lift_now: 0.0,
+            lift_next: 0.0,
+            seat: match (seat, seat_node) {
+                (Some(spec), Some(node)) => Some(Seat::new(spec, node, samples.len())),
+                _ => None,
+            },
         })
     }
 
@@ -271,6 +305,12 @@ impl StiffString {
         self.obstacle_force = 0.0;
         self.steps = 0;
         self.start_index = 0;
+        self.lift_prev = 0.0;
+        self.lift_now = 0.0;
+        self.lift_next = 0.0;
+        if let Some(seat) = &mut self.seat {
+            seat.force = 0.0;
+        }
         self.init_quadratised();
     }
 
@@ -363,7 +403,8 @@ impl StiffString {
     }
 
     /// The discrete energy terms at the current state `(n+1, n)` (O(N), no allocation):
-    /// kinetic `Σ μ(1+c̃+c)/(8h²) (Δ^{n+1})²`, linear `Σ μβ/(8h²) (q^{n+1}+q^n)²`, nonlinear
+    /// kinetic `Σ μ(1+c̃+c)/(8h²) (Δ^{n+1})²`, linear `Σ μβ/(8h²) (q^{n+1}+q^n)²` (plus the
+    /// seat spring's energy on a moving bridge, [`Self::seat_energy`]), nonlinear
     /// (contact) `Δx Σ_i (ψ(η_i^{n+1}) + ψ(η_i^n))/2` (Newton scheme) or `Δx Σ_i z_i²/2`
     /// (quadratised scheme, [`super::contact_sav`]), dissipated and work accumulated so far.
     pub fn energy_terms(&self) -> EnergyTerms {
@@ -380,7 +421,7 @@ impl StiffString {
         };
         EnergyTerms {
             kinetic: kin,
-            linear: pot,
+            linear: pot + self.seat_energy(),
             nonlinear: contact,
             above: 0.0,
             dissipated: self.dissipated,
@@ -591,4 +632,7 @@ impl RenderSource for StiffString {
 mod contact_step;
 mod hand_solve;
 mod retune;
+mod seat_solve;
 mod step;
+
+pub(crate) use step::FreeStep;

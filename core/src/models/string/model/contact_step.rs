@@ -50,7 +50,9 @@ impl StiffString {
         let mut e = 0.0;
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
-            if g - self.u_now[i] <= 0.0 && g - self.u_prev[i] <= 0.0 {
+            if (g + self.lift_now) - self.u_now[i] <= 0.0
+                && (g + self.lift_prev) - self.u_prev[i] <= 0.0
+            {
                 e += self.contact_z[n] * self.contact_z[n];
             }
         }
@@ -67,7 +69,8 @@ impl StiffString {
     pub(super) fn init_quadratised(&mut self) {
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
-            let two_psi = self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
+            let two_psi = self.law.psi((g + self.lift_now) - self.u_now[i])
+                + self.law.psi((g + self.lift_prev) - self.u_prev[i]);
             self.contact_z[n] = two_psi.sqrt();
         }
     }
@@ -77,7 +80,8 @@ impl StiffString {
         let mut psi = 0.0;
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
-            psi += self.law.psi(g - self.u_now[i]) + self.law.psi(g - self.u_prev[i]);
+            psi += self.law.psi((g + self.lift_now) - self.u_now[i])
+                + self.law.psi((g + self.lift_prev) - self.u_prev[i]);
         }
         0.5 * psi * self.params.dx()
     }
@@ -98,12 +102,15 @@ impl StiffString {
         }
     }
 
-    /// Step 3 of [`StiffString::step`]: solves every obstacle node with `u_free` in `u_next`
-    /// and `u^{n}`, `u^{n-1}` in `u_now`, `u_prev`; adds `k f_i` to `u_next`, stores `f_i`,
-    /// updates the counters. Returns the sum of the force densities (N/m) and the number of
-    /// nodes with a non-zero force. Bounded work: at most `NEWTON_CAP` iterations per node
+    /// Step 3 of [`StiffString::step`] with the bridge under the string at `lift_next` (m;
+    /// the current lift for a fixed bridge): solves every obstacle node with `u_free` in
+    /// `u_next` and `u^{n}`, `u^{n-1}` in `u_now`, `u_prev`, then the seat
+    /// ([`super::seat`]); adds `k f_i` to `u_next`, stores `f_i`, updates the counters.
+    /// Returns the sum of the force densities (N/m, the seat's included) and the number of
+    /// obstacle nodes with a non-zero force. Bounded work: at most `NEWTON_CAP` iterations per node
     /// (Newton) or one division (quadratised).
-    pub(super) fn solve_contacts(&mut self) -> (f64, usize) {
+    pub(crate) fn solve_contacts(&mut self, lift_next: f64) -> (f64, usize) {
+        self.lift_next = lift_next;
         let k = self.k;
         let mut total = 0.0;
         let mut active = 0usize;
@@ -117,8 +124,9 @@ impl StiffString {
         let dx = self.params.dx();
         for (n, &i) in self.contact_nodes.iter().enumerate() {
             let g = self.contact_g[n];
-            let eta_prev = g - self.u_prev[i];
-            let b = (g - self.u_next[i]) - eta_prev;
+            let eta_prev = (g + self.lift_prev) - self.u_prev[i];
+            let g_next = g + lift_next;
+            let b = (g_next - self.u_next[i]) - eta_prev;
             let force = match self.scheme {
                 ContactScheme::NewtonDiscreteGradient => {
                     let sol = solve_point(&self.law, eta_prev, b, k);
@@ -127,7 +135,7 @@ impl StiffString {
                     sol.force
                 }
                 ContactScheme::Quadratised => {
-                    let eta_now = g - self.u_now[i];
+                    let eta_now = (g + self.lift_now) - self.u_now[i];
                     if relaxing && eta_now <= 0.0 && eta_prev <= 0.0 && self.contact_z[n] != 0.0 {
                         // Off the obstacle at n and n-1, `√(2ψ)` is exactly 0 there: `z`
                         // decays to it (in contact it is left to the scheme, whose own `z`
@@ -155,12 +163,13 @@ impl StiffString {
                 self.u_next[i] += k * force;
                 total += force;
                 active += 1;
-                let pen = g - self.u_next[i];
+                let pen = g_next - self.u_next[i];
                 if pen > self.stats.max_penetration {
                     self.stats.max_penetration = pen;
                 }
             }
         }
+        total += self.solve_seat(lift_next);
         (total, active)
     }
 }

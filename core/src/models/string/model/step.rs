@@ -13,14 +13,18 @@ use crate::models::FLUSH_TO_ZERO_BELOW;
 use pulp::{Simd, WithSimd};
 
 impl StiffString {
-    /// The stored rows (obstacle nodes first, in order, then the other nodes grid pickups read)
+    /// The stored rows (obstacle nodes first, in order, then the seat's node, then the other
+    /// nodes grid pickups read)
     /// and the default synthesis path: rows when at most [`ROW_LIMIT`] nodes are needed.
     pub(super) fn stored_rows(
         p: &StringParams,
         samples: &[(usize, f64)],
+        seat: Option<usize>,
         outputs: &[ResolvedOutput],
     ) -> (Option<NodeRows>, GridSynthesis) {
         let mut nodes: Vec<usize> = samples.iter().map(|s| s.0).collect();
+        // The seat's row follows the obstacle's (`Seat::row`).
+        nodes.extend(seat);
         for i in outputs.iter().flat_map(|o| o.grid_nodes(p.intervals)) {
             if !nodes.contains(&i) {
                 nodes.push(i);
@@ -61,8 +65,18 @@ impl StiffString {
         self.synthesis
     }
 
-    /// Advances one step `n → n+1` (see the module doc for the algorithm).
+    /// Advances one step `n → n+1` (see the module doc for the algorithm). A string seated
+    /// on a bridge ([`StiffString::new_seated`]) stepped alone keeps the bridge where it is.
     pub fn step(&mut self) {
+        let start = self.free_step();
+        let (total, active) = self.solve_contacts(self.lift_now);
+        self.finish_step(start, total, active);
+    }
+
+    /// Steps 1-2 of [`Self::step`]: the free modal update (with the strike and the hand) and
+    /// the free grid displacement at the needed nodes, in `u_next`. Returns what
+    /// [`Self::finish_step`] needs. Audio thread, no allocation.
+    pub(crate) fn free_step(&mut self) -> FreeStep {
         let k = self.k;
         let dissipated_before = self.dissipated;
         let relaxed_before = self.relaxed;
@@ -105,21 +119,50 @@ impl StiffString {
             (Some(rows), true) => rows.synthesize(&self.w_buf, &mut self.u_next),
             _ => self.map.synthesis(&mut self.u_next),
         }
-        // 3. Pointwise contact solve: u^{n+1}_i = u_free_i + k f_i (Newton or quadratised).
-        let (total, active) = self.solve_contacts();
+        FreeStep {
+            fe,
+            dissipated_before,
+            relaxed_before,
+        }
+    }
+
+    /// Steps 4-6 of [`Self::step`], after the contact solve (step 3,
+    /// [`Self::solve_contacts`], which returned `total` and `active`): the modal correction
+    /// of the contact and seat forces, the strike's work, the dissipation and the rotation.
+    /// Audio thread, no allocation.
+    pub(crate) fn finish_step(&mut self, start: FreeStep, total: f64, active: usize) {
+        let FreeStep {
+            fe,
+            dissipated_before,
+            relaxed_before,
+        } = start;
+        let k = self.k;
         self.obstacle_force = total * self.params.dx();
         // 4. Modal correction Δ += k S⁻¹ f = k Δx S f, only when some force acted: a sum over
         //    the stored rows for a few active nodes (obstacle node n is row n), or one DST.
-        if active > 0 {
-            self.stats.contact_steps += 1;
+        let seated = self.seat.is_some_and(|s| s.force != 0.0);
+        if active > 0 || seated {
+            self.stats.contact_steps += u64::from(active > 0);
             match &mut self.rows {
                 Some(rows) if active <= ROW_ACTIVE_LIMIT => {
                     rows.add_rows(k * self.params.dx(), &self.contact_f, &mut self.dq_next);
+                    if let Some(seat) = &self.seat {
+                        if seat.force != 0.0 {
+                            rows.add_row(
+                                seat.row,
+                                k * self.params.dx() * seat.force,
+                                &mut self.dq_next,
+                            );
+                        }
+                    }
                 }
                 _ => {
                     self.force_buf.fill(0.0);
                     for (n, &i) in self.contact_nodes.iter().enumerate() {
                         self.force_buf[i] = self.contact_f[n];
+                    }
+                    if let Some(seat) = &self.seat {
+                        self.force_buf[seat.node] += seat.force;
                     }
                     self.map.analysis(&mut self.force_buf);
                     for (d, f) in self.dq_next.iter_mut().zip(&self.force_buf) {
@@ -155,8 +198,21 @@ impl StiffString {
         std::mem::swap(&mut self.dq, &mut self.dq_next);
         std::mem::swap(&mut self.u_prev, &mut self.u_now);
         std::mem::swap(&mut self.u_now, &mut self.u_next);
+        self.lift_prev = self.lift_now;
+        self.lift_now = self.lift_next;
         self.steps += 1;
     }
+}
+
+/// What [`StiffString::free_step`] hands to [`StiffString::finish_step`] (audio thread).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct FreeStep {
+    /// The strike's force this step (N; 0 without strike).
+    fe: f64,
+    /// `dissipated` before the step (J).
+    dissipated_before: f64,
+    /// `relaxed` before the step (J).
+    relaxed_before: f64,
 }
 
 /// Step 1's loop: `Δ_free = c̃ Δ - β q + k f_e φ(x_e)` and `w = q + Δ_free` (the strike term
