@@ -52,7 +52,7 @@ pub fn relative_l2(y: &[f64], reference: &[f64], n: usize) -> f64 {
 }
 
 /// Power spectra `|X|²` of Hann-windowed frames of `x`.
-fn power_frames(x: &[f64]) -> Vec<Vec<f64>> {
+pub fn power_frames(x: &[f64]) -> Vec<Vec<f64>> {
     let fft = FftPlanner::<f64>::new().plan_fft_forward(LSD_WINDOW);
     let hann: Vec<f64> = (0..LSD_WINDOW)
         .map(|n| 0.5 - 0.5 * (std::f64::consts::TAU * n as f64 / LSD_WINDOW as f64).cos())

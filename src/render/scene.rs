@@ -10,6 +10,7 @@ use crate::error::{Error, ParamError};
 use crate::models::plate::voice::PlateVoice;
 use crate::models::sav_relaxation::SavRelaxation;
 use crate::models::string::StiffString;
+use crate::models::tanpura::Tanpura;
 use crate::scene::{Scene, StringSpec};
 
 /// Energy samples kept for plots and statistics over a render.
@@ -93,6 +94,18 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
                 step_threads,
             })
         }
+        (None, None) if scene.tanpura.is_some() => {
+            let spec = scene.tanpura.as_ref().expect("checked");
+            Ok(SceneSource {
+                source: Box::new(Tanpura::build(spec)?),
+                model: "tanpura",
+                scheme: "exact-modal+discrete-gradient-network".into(),
+                n_phi: spec.modes,
+                n_psi: 0,
+                snapshots: Vec::new(),
+                step_threads: 1,
+            })
+        }
         (None, Some(string)) => Ok(SceneSource {
             source: Box::new(build_string(string)?),
             model: "string",
@@ -111,7 +124,7 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
             ParamError::new(
                 "plate",
                 "missing",
-                "a scene needs exactly one model table: [plate] or [string]",
+                "a scene needs exactly one model table: [plate], [string] or [tanpura]",
             )
         })),
     }

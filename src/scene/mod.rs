@@ -12,6 +12,7 @@ pub mod overrides;
 pub use noether_core::models::plate::spec as plate;
 pub mod quality;
 pub use noether_core::models::string::spec as string;
+pub use noether_core::models::tanpura::TanpuraSpec;
 
 pub use plate::PlateSpec;
 pub use quality::{Quality, QualityMode};
@@ -71,6 +72,9 @@ pub struct Scene {
     /// The stiff string model, when the scene is a sitar, tanpura or other string.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub string: Option<StringSpec>,
+    /// The tanpura drone (strings on a moving bridge, plucked in a cycle).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tanpura: Option<TanpuraSpec>,
     /// Model selection (`[quality]`): as given, or `mode = "auto"` with a tolerance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub quality: Option<Quality>,
@@ -121,26 +125,27 @@ impl Scene {
         if let Some(q) = &self.quality {
             q.validate()?;
         }
-        match (&self.plate, &self.string) {
-            (Some(p), None) => p.validate(),
-            (None, Some(s)) => s.validate(),
-            (Some(_), Some(_)) => Err(ParamError::new(
-                "string",
-                "given with [plate]",
-                "exactly one model table: [plate] or [string]",
-            )),
-            (None, None) => Err(ParamError::new(
+        const ONE: &str = "exactly one model table: [plate], [string] or [tanpura]";
+        match (&self.plate, &self.string, &self.tanpura) {
+            (Some(p), None, None) => p.validate(),
+            (None, Some(s), None) => s.validate(),
+            (None, None, Some(t)) => t.validate(),
+            (None, None, None) => Err(ParamError::new(
                 "plate",
                 "missing",
-                "a scene needs exactly one model table: [plate] or [string]",
+                format!("a scene needs {ONE}"),
             )),
+            (_, _, Some(_)) => Err(ParamError::new("tanpura", "given with another model", ONE)),
+            (Some(_), Some(_), None) => Err(ParamError::new("string", "given with [plate]", ONE)),
         }
     }
 
-    /// The model table's name (`plate` or `string`), the prefix of its dotted fields.
+    /// The model table's name (`plate`, `string` or `tanpura`), the prefix of its dotted fields.
     pub fn model_key(&self) -> &'static str {
         if self.string.is_some() {
             "string"
+        } else if self.tanpura.is_some() {
+            "tanpura"
         } else {
             "plate"
         }
@@ -148,10 +153,11 @@ impl Scene {
 
     /// The simulation rate of the scene's model (Hz).
     pub fn sim_rate(&self) -> f64 {
-        match (&self.plate, &self.string) {
-            (Some(p), _) => p.sim_rate,
-            (None, Some(s)) => s.sim_rate,
-            (None, None) => 0.0,
+        match (&self.plate, &self.string, &self.tanpura) {
+            (Some(p), _, _) => p.sim_rate,
+            (None, Some(s), _) => s.sim_rate,
+            (None, None, Some(t)) => t.sim_rate,
+            (None, None, None) => 0.0,
         }
     }
 
@@ -167,6 +173,9 @@ impl Scene {
         }
         if let Some(s) = &mut self.string {
             s.sim_rate = fs;
+        }
+        if let Some(t) = &mut self.tanpura {
+            t.sim_rate = fs;
         }
         self.validate()
     }

@@ -16,3 +16,4 @@ mod string_render;
 mod string_repluck;
 mod string_rows;
 mod string_sav;
+mod tanpura;

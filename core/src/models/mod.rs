@@ -4,7 +4,8 @@
 //! - [`string`]: stiff string against a unilateral obstacle (sitar, tanpura), modal exact
 //!   linear scheme with an energy-conserving contact force (SEED.md section 3.2);
 //! - [`network`]: strings seated on a moving bridge, coupled both ways through it (tanpura
-//!   drone, sympathetic strings).
+//!   drone, sympathetic strings);
+//! - [`tanpura`]: the tanpura drone on that network (tunings, tuning by ear, pluck cycle).
 
 pub mod network;
 pub mod plate;
@@ -13,6 +14,7 @@ pub mod ranges;
 pub mod sav_relaxation;
 pub mod source;
 pub mod string;
+pub mod tanpura;
 
 /// Magnitude below which the models set a modal state value to exactly zero after each step
 /// (in the state's own units: m² for the plate's `q`, m^3/2 for the string's `q` and `Δ`).

@@ -1,0 +1,79 @@
+//! Tuning by ear: a player plucks each string, listens to it after the attack and turns the
+//! peg until it sounds its note. Here: each string is plucked alone in the whole network (the
+//! other strings on the bridge, unplucked), its first partial's frequency is measured from its
+//! first modal coordinate `q_1` (the first partial itself, read without a filter) over
+//! [`LISTEN_FROM`] to [`LISTEN_TO`] after the pluck, and its tension is scaled by
+//! `(f_target / f_measured)²`; [`TUNE_PASSES`] passes. The seat, the moving bridge, the
+//! jawari (which raises a grazing string's pitch) and the string's stiffness all move the
+//! sounding pitch off the ideal string's `√(T/μ)/2L`; this puts it back.
+//!
+//! Control (or worker) thread: builds networks and runs `TUNE_PASSES · strings` seconds of
+//! simulation.
+
+use super::spec::TanpuraSpec;
+use crate::error::ParamError;
+use crate::models::network::StringNetwork;
+use crate::models::string::TrianglePluck;
+
+/// Passes of the tuning.
+pub const TUNE_PASSES: usize = 2;
+
+/// Start of the listening window after the pluck, s.
+pub const LISTEN_FROM: f64 = 0.3;
+
+/// End of the listening window after the pluck, s.
+pub const LISTEN_TO: f64 = 1.0;
+
+/// The frequency (Hz) of string `string`'s first modal coordinate over `[from, to]` s from
+/// now, from its upward zero crossings (linearly interpolated between steps): the number of
+/// periods between the first and the last crossing over the time between them. `None` with
+/// fewer than three crossings. Steps the network to `to`.
+pub fn first_partial_hz(net: &mut StringNetwork, string: usize, from: f64, to: f64) -> Option<f64> {
+    let h = net.h();
+    let (start, end) = ((from / h).round() as u64, (to / h).round() as u64);
+    let (mut first, mut last, mut count) = (None, 0.0, 0u64);
+    let mut prev = net.strings()[string].modal_displacement()[0];
+    for n in 1..=end {
+        net.step();
+        let q = net.strings()[string].modal_displacement()[0];
+        if n > start && prev < 0.0 && q >= 0.0 {
+            let t = (n as f64 - 1.0 + prev / (prev - q)) * h;
+            first.get_or_insert(t);
+            last = t;
+            count += 1;
+        }
+        prev = q;
+    }
+    let first = first?;
+    (count >= 3).then(|| (count - 1) as f64 / (last - first))
+}
+
+/// The pluck of every string in `spec` (position and amplitude).
+pub fn pluck_of(spec: &TanpuraSpec) -> TrianglePluck {
+    TrianglePluck {
+        position: spec.pluck_position * spec.length,
+        amplitude: spec.pluck_amplitude,
+    }
+}
+
+/// Each string's tension over its nominal tension after tuning by ear (all 1 when
+/// `spec.tune_by_ear` is off).
+pub fn tension_scales(spec: &TanpuraSpec) -> Result<Vec<f64>, ParamError> {
+    let n = spec.strings;
+    let mut scale = vec![1.0; n];
+    if !spec.tune_by_ear {
+        return Ok(scale);
+    }
+    let pluck = pluck_of(spec);
+    for _ in 0..TUNE_PASSES {
+        let config = spec.network(&scale)?;
+        for (s, k) in scale.iter_mut().enumerate() {
+            let mut net = StringNetwork::new(&config)?;
+            net.pluck(s, &pluck)?;
+            if let Some(f) = first_partial_hz(&mut net, s, LISTEN_FROM, LISTEN_TO) {
+                *k *= (spec.target_hz(s) / f).powi(2);
+            }
+        }
+    }
+    Ok(scale)
+}

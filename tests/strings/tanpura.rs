@@ -1,0 +1,190 @@
+//! The tanpura drone (`noether::models::tanpura`): its strings sound the tuning table within a
+//! cent, the cycle's plucks start on the pattern's instants, the variation moves them and is
+//! repeatable, a long drone keeps its level and its power balance, and bad specs name the
+//! field.
+
+use noether::models::tanpura::{Pattern, Tanpura, TanpuraSpec, Tuning};
+
+const FS: f64 = 48_000.0;
+
+/// The frequency of string `s`'s first modal coordinate over steps `[from, to)` of the drone
+/// (steps it there): upward zero crossings, linearly interpolated (written here, apart from the
+/// tuner's own measurement, and read in the drone with every string sounding).
+fn first_partial(t: &mut Tanpura, s: usize, from: u64, to: u64) -> f64 {
+    let mut prev = t.network().strings()[s].modal_displacement()[0];
+    let (mut first, mut last, mut count) = (None, 0.0, 0u64);
+    while t.steps() < to {
+        t.step();
+        let q = t.network().strings()[s].modal_displacement()[0];
+        let n = t.steps();
+        if n > from && prev < 0.0 && q >= 0.0 {
+            let at = n as f64 - 1.0 + prev / (prev - q);
+            first.get_or_insert(at);
+            last = at;
+            count += 1;
+        }
+        prev = q;
+    }
+    (count - 1) as f64 * FS / (last - first.expect("crossings"))
+}
+
+/// Every string of the four standard tunings (on Sa = C#3) sounds its note within 1 cent,
+/// measured in the drone from 0.3 to 0.75 s after its own pluck (before the next string's
+/// pluck; the cycle is 4 s, a string every 0.8 s). Measured: within 0.04 cents (docs/models.md
+/// table). Without tuning by ear the same strings are up to 3 cents sharp (the kharaj: the
+/// seat, the bridge, the jawari and the stiffness all raise the pitch), so the test fails
+/// without it.
+#[test]
+fn every_string_sounds_its_note_within_a_cent() {
+    for tuning in Tuning::ALL {
+        for by_ear in [true, false] {
+            let mut spec = TanpuraSpec::at(138.59);
+            spec.tuning = tuning;
+            spec.tune_by_ear = by_ear;
+            let mut t = Tanpura::build(&spec).unwrap();
+            let gap = (0.8 * FS) as u64;
+            let mut cents = Vec::new();
+            for s in 0..4 {
+                let onset = s as u64 * gap;
+                let f = first_partial(
+                    &mut t,
+                    s,
+                    onset + (0.3 * FS) as u64,
+                    onset + (0.75 * FS) as u64,
+                );
+                cents.push(1200.0 * (f / spec.target_hz(s)).log2());
+            }
+            let worst = cents.iter().fold(0.0f64, |w, c| w.max(c.abs()));
+            eprintln!("{tuning:?}, by ear {by_ear}: cents {cents:.3?}");
+            if by_ear {
+                assert!(worst < 1.0, "{tuning:?}: {cents:?}");
+            } else {
+                assert!(
+                    worst > 1.0,
+                    "{tuning:?} untuned is already in tune: {cents:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The step at which each pluck of the first `cycles` cycles started, per string: where the
+/// string's work account jumped (a pluck's energy is counted as work).
+fn onsets(t: &mut Tanpura, steps: u64) -> Vec<Vec<u64>> {
+    let n = t.network().strings().len();
+    let mut out = vec![Vec::new(); n];
+    let mut work: Vec<f64> = (0..n).map(|s| t.network().string_energy(s).work).collect();
+    while t.steps() < steps {
+        let at = t.steps();
+        t.step();
+        for (s, w) in work.iter_mut().enumerate() {
+            let now = t.network().string_energy(s).work;
+            if now != *w {
+                out[s].push(at);
+                *w = now;
+            }
+        }
+    }
+    out
+}
+
+/// The cycle's onsets, read from the strings (their work jumps), lie on the pattern's
+/// instants within 1 ms: classic, string `i` of 4 at `(c + i/5) P`; even, at `(c + i/4) P`
+/// (three cycles of 2 s). With 20 ms of timing variation the onsets move (some by more than
+/// 1 ms), never by more than 20 ms, and the same seed repeats them exactly.
+#[test]
+fn the_cycle_plucks_on_the_pattern() {
+    let period = 2.0;
+    for (pattern, denom) in [(Pattern::Classic, 5.0), (Pattern::Even, 4.0)] {
+        let mut spec = TanpuraSpec::at(138.59);
+        spec.cycle_seconds = period;
+        spec.pattern = pattern;
+        spec.tune_by_ear = false;
+        let got = onsets(
+            &mut Tanpura::build(&spec).unwrap(),
+            (3.0 * period * FS) as u64,
+        );
+        for (s, list) in got.iter().enumerate() {
+            assert_eq!(list.len(), 3, "{pattern:?} string {s}: {list:?}");
+            for (c, &step) in list.iter().enumerate() {
+                let want = (c as f64 + s as f64 / denom) * period;
+                let err = (step as f64 / FS - want).abs();
+                assert!(err < 1e-3, "{pattern:?} string {s} cycle {c}: {err} s");
+            }
+        }
+        spec.timing_jitter_ms = 20.0;
+        spec.strength_jitter = 0.2;
+        let a = onsets(
+            &mut Tanpura::build(&spec).unwrap(),
+            (3.0 * period * FS) as u64,
+        );
+        let b = onsets(
+            &mut Tanpura::build(&spec).unwrap(),
+            (3.0 * period * FS) as u64,
+        );
+        assert_eq!(a, b, "the seed does not repeat the variation");
+        let moved: Vec<f64> = a
+            .iter()
+            .zip(&got)
+            .flat_map(|(x, y)| {
+                x.iter()
+                    .zip(y)
+                    .map(|(p, q)| (*p as f64 - *q as f64).abs() / FS)
+            })
+            .collect();
+        assert!(moved.iter().all(|&d| d <= 0.020 + 1.0 / FS), "{moved:?}");
+        assert!(moved.iter().any(|&d| d > 1e-3), "no variation: {moved:?}");
+    }
+}
+
+/// A 40 s drone (ten cycles of 4 s) keeps its level: the largest energy in each of the last
+/// five cycles is within 10 % of the second cycle's (the first has no ringing strings yet), and
+/// the power balance closes to 1e-11 of the largest energy (measured in docs/models.md).
+#[test]
+fn a_long_drone_keeps_its_level_and_its_balance() {
+    let spec = TanpuraSpec::at(138.59);
+    let mut t = Tanpura::build(&spec).unwrap();
+    let cycle = (spec.cycle_seconds * FS) as u64;
+    let b0 = t.network().energy_terms().balance();
+    let (mut peaks, mut peak, mut worst, mut e_max) = (Vec::new(), 0.0f64, 0.0f64, 0.0f64);
+    while t.steps() < 10 * cycle {
+        t.step();
+        let e = t.network().energy_terms();
+        peak = peak.max(e.total());
+        e_max = e_max.max(e.total());
+        worst = worst.max((e.balance() - b0).abs());
+        if t.steps() % cycle == 0 {
+            peaks.push(peak);
+            peak = 0.0;
+        }
+    }
+    let rel: Vec<f64> = peaks.iter().map(|p| p / peaks[1]).collect();
+    eprintln!(
+        "cycle peaks / second cycle's: {rel:.4?}; balance {:.2e}",
+        worst / e_max
+    );
+    assert!(rel[5..].iter().all(|r| (r - 1.0).abs() < 0.1), "{rel:?}");
+    assert!(worst / e_max < 1e-11, "balance {:.2e}", worst / e_max);
+}
+
+/// Bad specs are refused with the field named.
+#[test]
+fn bad_tanpura_specs_name_the_field() {
+    let field = |f: &dyn Fn(&mut TanpuraSpec)| {
+        let mut spec = TanpuraSpec::at(138.59);
+        f(&mut spec);
+        spec.validate().unwrap_err().field
+    };
+    assert_eq!(field(&|s| s.sa = 5.0), "tanpura.sa");
+    assert_eq!(field(&|s| s.strings = 7), "tanpura.strings");
+    assert_eq!(field(&|s| s.jivari_mm = vec![1.0]), "tanpura.jivari_mm[0]");
+    assert_eq!(
+        field(&|s| s.jivari_mm = vec![5.0, 5.0]),
+        "tanpura.jivari_mm"
+    );
+    assert_eq!(
+        field(&|s| s.fine_cents = vec![0.0, 0.0, 0.0, 300.0]),
+        "tanpura.fine_cents[3]"
+    );
+    assert_eq!(field(&|s| s.cycle_seconds = 0.0), "tanpura.cycle_seconds");
+}
