@@ -1,0 +1,80 @@
+//! The tanpura drone's strings over time: each string's energy (its motion, its jawari contact
+//! and its seat) and the bridge's, every 10 ms, over three cycles of
+//! `assets/scenes/tanpura-drone.toml` (four strings, Pa-Sa-Sa-Sa on C#3, a pluck every 0.8 s,
+//! a 4 s cycle). A plucked string rises by its pluck's energy; the others rise between their own
+//! plucks as the bridge hands them energy (the two Sa strings most, sounding the same note).
+//!
+//! Run: `cargo run --release --example tanpura_drone [OUT_DIR]` (default `out`): prints each
+//! string's tension after tuning by ear and its share of the energy at the end of each cycle,
+//! and writes `OUT_DIR/tanpura-drone-strings.png`.
+
+use noether::models::tanpura::Tanpura;
+use noether::plot::{write_png, Panel, Scale, Series};
+use noether::scene::Scene;
+use std::path::{Path, PathBuf};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let out = PathBuf::from(std::env::args().nth(1).unwrap_or_else(|| "out".into()));
+    std::fs::create_dir_all(&out)?;
+    let scene_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tanpura-drone.toml");
+    let scene = Scene::load(&scene_path, &[])?;
+    let spec = scene.tanpura.ok_or("the scene has no [tanpura] table")?;
+    let mut drone = Tanpura::build(&spec)?;
+    let names = [
+        "Pa (string 1)",
+        "Sa (string 2)",
+        "Sa (string 3)",
+        "low Sa (string 4)",
+    ];
+    println!("tensions after tuning by ear (N): {:.3?}", drone.tensions());
+    let rate = 1.0 / drone.network().h();
+    let every = (0.01 * rate) as u64;
+    let cycle = (spec.cycle_seconds * rate) as u64;
+    let n = drone.network().strings().len();
+    let (mut t, mut strings, mut bridge) = (Vec::new(), vec![Vec::new(); n], Vec::new());
+    while drone.steps() < 3 * cycle {
+        drone.step();
+        if drone.steps() % every == 0 {
+            t.push(drone.steps() as f64 / rate);
+            for (s, e) in strings.iter_mut().enumerate() {
+                e.push(drone.network().string_energy(s).total());
+            }
+            let (k, p) = drone.network().bridge_energy();
+            bridge.push(k + p);
+        }
+        if drone.steps() % cycle == 0 {
+            let total = drone.network().energy_terms().total();
+            let shares: Vec<String> = (0..n)
+                .map(|s| format!("{:.3}", drone.network().string_energy(s).total() / total))
+                .collect();
+            println!(
+                "end of cycle {}: string shares {}",
+                drone.steps() / cycle,
+                shares.join(" ")
+            );
+        }
+    }
+    let mut panel = Panel::new(
+        "Each string's energy and the bridge's (J)",
+        "time (s)",
+        "energy (J)",
+    )
+    .scales(Scale::Linear, Scale::Log10);
+    for (s, e) in strings.into_iter().enumerate() {
+        let label = names
+            .get(s)
+            .map_or_else(|| format!("string {}", s + 1), |x| x.to_string());
+        panel = panel.push(Series::line(label, t.clone(), e));
+    }
+    panel = panel.push(Series::line("bridge", t, bridge));
+    let path = out.join("tanpura-drone-strings.png");
+    write_png(
+        &path,
+        "tanpura-drone: energy of each string",
+        &[panel],
+        1,
+        (1100, 520),
+    )?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
