@@ -9,6 +9,7 @@ use crate::analysis::dispersion::max_cents_error;
 use crate::error::{Error, ParamError};
 use crate::models::plate::voice::PlateVoice;
 use crate::models::sav_relaxation::SavRelaxation;
+use crate::models::sitar::Sitar;
 use crate::models::string::StiffString;
 use crate::models::tanpura::Tanpura;
 use crate::scene::{Scene, StringSpec};
@@ -106,6 +107,18 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
                 step_threads: 1,
             })
         }
+        (None, None) if scene.sitar.is_some() => {
+            let spec = scene.sitar.as_ref().expect("checked");
+            Ok(SceneSource {
+                source: Box::new(Sitar::build(spec)?),
+                model: "sitar",
+                scheme: "exact-modal+discrete-gradient-network".into(),
+                n_phi: spec.modes,
+                n_psi: 0,
+                snapshots: Vec::new(),
+                step_threads: 1,
+            })
+        }
         (None, Some(string)) => Ok(SceneSource {
             source: Box::new(build_string(string)?),
             model: "string",
@@ -124,7 +137,7 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
             ParamError::new(
                 "plate",
                 "missing",
-                "a scene needs exactly one model table: [plate], [string] or [tanpura]",
+                "a scene needs exactly one model table: [plate], [string], [tanpura] or [sitar]",
             )
         })),
     }

@@ -11,6 +11,7 @@
 pub mod overrides;
 pub use noether_core::models::plate::spec as plate;
 pub mod quality;
+pub use noether_core::models::sitar::SitarSpec;
 pub use noether_core::models::string::spec as string;
 pub use noether_core::models::tanpura::TanpuraSpec;
 
@@ -75,6 +76,10 @@ pub struct Scene {
     /// The tanpura drone (strings on a moving bridge, plucked in a cycle).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tanpura: Option<TanpuraSpec>,
+    /// The sitar with its taraf (one note on the played string, the sympathetic strings
+    /// answering).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sitar: Option<SitarSpec>,
     /// Model selection (`[quality]`): as given, or `mode = "auto"` with a tolerance.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub quality: Option<Quality>,
@@ -125,27 +130,55 @@ impl Scene {
         if let Some(q) = &self.quality {
             q.validate()?;
         }
-        const ONE: &str = "exactly one model table: [plate], [string] or [tanpura]";
-        match (&self.plate, &self.string, &self.tanpura) {
-            (Some(p), None, None) => p.validate(),
-            (None, Some(s), None) => s.validate(),
-            (None, None, Some(t)) => t.validate(),
-            (None, None, None) => Err(ParamError::new(
+        const ONE: &str = "exactly one model table: [plate], [string], [tanpura] or [sitar]";
+        let given = [
+            self.plate.is_some(),
+            self.string.is_some(),
+            self.tanpura.is_some(),
+            self.sitar.is_some(),
+        ];
+        match given.iter().filter(|&&g| g).count() {
+            0 => Err(ParamError::new(
                 "plate",
                 "missing",
                 format!("a scene needs {ONE}"),
             )),
-            (_, _, Some(_)) => Err(ParamError::new("tanpura", "given with another model", ONE)),
-            (Some(_), Some(_), None) => Err(ParamError::new("string", "given with [plate]", ONE)),
+            1 => {
+                if let Some(p) = &self.plate {
+                    p.validate()
+                } else if let Some(s) = &self.string {
+                    s.validate()
+                } else if let Some(t) = &self.tanpura {
+                    t.validate()
+                } else {
+                    self.sitar.as_ref().map_or(Ok(()), |s| s.validate())
+                }
+            }
+            _ => {
+                // Name the second table given.
+                let names = ["plate", "string", "tanpura", "sitar"];
+                let second = (0..4).filter(|&i| given[i]).nth(1).unwrap_or(1);
+                Err(ParamError::new(
+                    names[second],
+                    format!(
+                        "given with [{}]",
+                        names[given.iter().position(|&g| g).unwrap_or(0)]
+                    ),
+                    ONE,
+                ))
+            }
         }
     }
 
-    /// The model table's name (`plate`, `string` or `tanpura`), the prefix of its dotted fields.
+    /// The model table's name (`plate`, `string`, `tanpura` or `sitar`), the prefix of its
+    /// dotted fields.
     pub fn model_key(&self) -> &'static str {
         if self.string.is_some() {
             "string"
         } else if self.tanpura.is_some() {
             "tanpura"
+        } else if self.sitar.is_some() {
+            "sitar"
         } else {
             "plate"
         }
@@ -157,7 +190,7 @@ impl Scene {
             (Some(p), _, _) => p.sim_rate,
             (None, Some(s), _) => s.sim_rate,
             (None, None, Some(t)) => t.sim_rate,
-            (None, None, None) => 0.0,
+            (None, None, None) => self.sitar.as_ref().map_or(0.0, |s| s.sim_rate),
         }
     }
 
@@ -176,6 +209,9 @@ impl Scene {
         }
         if let Some(t) = &mut self.tanpura {
             t.sim_rate = fs;
+        }
+        if let Some(s) = &mut self.sitar {
+            s.sim_rate = fs;
         }
         self.validate()
     }

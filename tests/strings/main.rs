@@ -7,6 +7,7 @@
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
 mod network;
+mod sitar;
 mod string_alloc;
 mod string_bounce;
 mod string_hand;

@@ -240,10 +240,10 @@ fn string_scene_errors_name_their_fields() {
     let both = format!("{GOOD}{plate}");
     let e = parse(&both, &[]).unwrap_err().to_string();
     assert!(
-        e.contains("`string`") && e.contains("[plate], [string] or [tanpura]"),
+        e.contains("`string`") && e.contains("[plate], [string], [tanpura] or [sitar]"),
         "{e}"
     );
     let neither = "[output]\nsample_rate = 48000\nseconds = 1.0\n";
     let e = parse(neither, &[]).unwrap_err().to_string();
-    assert!(e.contains("[plate], [string] or [tanpura]"), "{e}");
+    assert!(e.contains("[plate], [string], [tanpura] or [sitar]"), "{e}");
 }

@@ -5,13 +5,15 @@
 //!   linear scheme with an energy-conserving contact force (SEED.md section 3.2);
 //! - [`network`]: strings seated on a moving bridge, coupled both ways through it (tanpura
 //!   drone, sympathetic strings);
-//! - [`tanpura`]: the tanpura drone on that network (tunings, tuning by ear, pluck cycle).
+//! - [`tanpura`]: the tanpura drone on that network (tunings, tuning by ear, pluck cycle);
+//! - [`sitar`]: the sitar's played string and its taraf of sympathetic strings on it.
 
 pub mod network;
 pub mod plate;
 pub mod quantity;
 pub mod ranges;
 pub mod sav_relaxation;
+pub mod sitar;
 pub mod source;
 pub mod string;
 pub mod tanpura;

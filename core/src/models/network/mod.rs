@@ -53,3 +53,4 @@ pub use bridge::{BridgeBody, BridgeMode, MAX_BRIDGE_MODES};
 pub use config::{NetworkConfig, NetworkOutput, SeatedString};
 pub use model::StringNetwork;
 pub use solve::{NetworkStats, NETWORK_NEWTON_CAP, NETWORK_STOP, NETWORK_TOL};
+pub use source::BridgeInstrument;

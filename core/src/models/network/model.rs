@@ -260,6 +260,19 @@ impl StringNetwork {
         self.outputs.len()
     }
 
+    /// A stereo mix of the strings' forces on the bridge (N): `Σ_s gains[s] · (-F_s)`, `F_s`
+    /// the jawari and seat force of the last step on string `s` (`gains` one `[left, right]`
+    /// pair per string). The body's drive, as a bridge-force pickup. O(strings).
+    pub fn bridge_force_mix(&self, gains: &[[f64; 2]]) -> [f64; 2] {
+        let mut out = [0.0; 2];
+        for (s, g) in self.strings.iter().zip(gains) {
+            let f = -s.obstacle_force();
+            out[0] += g[0] * f;
+            out[1] += g[1] * f;
+        }
+        out
+    }
+
     /// Value of output channel `c` at the current state.
     pub fn output(&self, c: usize) -> f64 {
         match &self.outputs[c] {

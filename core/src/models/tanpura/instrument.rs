@@ -4,8 +4,7 @@ use super::cycle::{PluckCycle, PluckEvent};
 use super::spec::TanpuraSpec;
 use super::tune::{pluck_of, tension_scales};
 use crate::error::ParamError;
-use crate::models::network::StringNetwork;
-use crate::models::source::{EnergyTerms, RenderSource};
+use crate::models::network::{BridgeInstrument, StringNetwork};
 use crate::models::string::TrianglePluck;
 
 /// A tanpura playing its drone: the network of its strings, the pluck cycle, and the stereo
@@ -52,11 +51,7 @@ impl Tanpura {
         );
         let next = cycle.next_pluck();
         let pan = (0..n)
-            .map(|i| {
-                let p = 0.6 * (2.0 * i as f64 / (n - 1) as f64 - 1.0);
-                let a = (p + 1.0) * std::f64::consts::FRAC_PI_4;
-                [a.cos(), a.sin()]
-            })
+            .map(|i| pan_gains(0.6 * (2.0 * i as f64 / (n - 1) as f64 - 1.0)))
             .collect();
         let tensions = (0..n)
             .map(|i| spec.nominal_tension(i) * scales[i])
@@ -105,41 +100,24 @@ impl Tanpura {
     pub fn steps(&self) -> u64 {
         self.step
     }
+}
 
-    /// The stereo pickup: `Σ_s pan_s · (-F_s)`, the strings' forces on the bridge (N).
-    fn stereo(&self) -> [f64; 2] {
-        let mut out = [0.0; 2];
-        for (s, pan) in self.network.strings().iter().zip(&self.pan) {
-            let f = -s.obstacle_force();
-            out[0] += pan[0] * f;
-            out[1] += pan[1] * f;
-        }
-        out
+impl BridgeInstrument for Tanpura {
+    fn network(&self) -> &StringNetwork {
+        &self.network
+    }
+
+    fn advance(&mut self) {
+        self.step();
+    }
+
+    fn gains(&self) -> &[[f64; 2]] {
+        &self.pan
     }
 }
 
-impl RenderSource for Tanpura {
-    fn sim_rate(&self) -> f64 {
-        1.0 / self.network.h()
-    }
-
-    fn channels(&self) -> usize {
-        2
-    }
-
-    fn process(&mut self, out: &mut [Vec<f64>], frames: usize) {
-        let (left, right) = out.split_at_mut(1);
-        for (l, r) in left[0].iter_mut().zip(right[0].iter_mut()).take(frames) {
-            self.step();
-            [*l, *r] = self.stereo();
-        }
-    }
-
-    fn energy(&self) -> EnergyTerms {
-        self.network.energy_terms()
-    }
-
-    fn is_conservative(&self) -> bool {
-        true
-    }
+/// Constant-power `[left, right]` gains at `position` (-1 left to 1 right).
+pub fn pan_gains(position: f64) -> [f64; 2] {
+    let a = (position + 1.0) * std::f64::consts::FRAC_PI_4;
+    [a.cos(), a.sin()]
 }

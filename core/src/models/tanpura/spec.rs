@@ -119,7 +119,8 @@ fn default_length() -> f64 {
 fn default_modes() -> usize {
     480
 }
-fn default_sim_rate() -> f64 {
+/// Serde default (shared with the sitar).
+pub(crate) fn default_sim_rate() -> f64 {
     48_000.0
 }
 fn default_cycle() -> f64 {
@@ -134,10 +135,12 @@ fn default_jivari() -> Vec<f64> {
 fn default_pluck_position() -> f64 {
     0.3
 }
-fn default_pluck_amplitude() -> f64 {
+/// Serde default (shared with the sitar).
+pub(crate) fn default_pluck_amplitude() -> f64 {
     1e-3
 }
-fn default_true() -> bool {
+/// Serde default (shared with the sitar).
+pub(crate) fn default_true() -> bool {
     true
 }
 
@@ -261,22 +264,6 @@ impl TanpuraSpec {
         s.linear_density() * (2.0 * self.length * self.target_hz(i)).powi(2)
     }
 
-    /// The curved top with its crest at the jivari `x_j` (m): `g = -c (x - x_j)²` on the nodes
-    /// from the second (the first is the seat) to [`BRIDGE_TOP`] or the jivari, whichever is
-    /// further.
-    fn curved_top(&self, x_j: f64) -> Obstacle {
-        let dx = self.dx();
-        let end = BRIDGE_TOP.max(x_j) + 0.5 * dx;
-        Obstacle::Profile(
-            (1..=self.modes)
-                .map(|k| {
-                    let x = k as f64 * dx;
-                    (k >= 2 && x <= end).then(|| -self.bridge_curvature * (x - x_j).powi(2))
-                })
-                .collect(),
-        )
-    }
-
     /// The network of the strings on the bridge with string `i` at `tension_scale[i]` times
     /// its nominal tension. Validates first.
     pub fn network(&self, tension_scale: &[f64]) -> Result<NetworkConfig, ParamError> {
@@ -296,7 +283,9 @@ impl TanpuraSpec {
                     sample_rate: self.sim_rate,
                 };
                 let obstacle = match self.jivari(i) {
-                    Some(x) if self.bridge_curvature > 0.0 => self.curved_top(x),
+                    Some(x) if self.bridge_curvature > 0.0 => {
+                        curved_top(self.bridge_curvature, x, self.dx(), self.modes)
+                    }
                     Some(x) => Obstacle::Point {
                         position: x,
                         height: 0.0,
@@ -332,4 +321,19 @@ impl TanpuraSpec {
             outputs: Vec::new(),
         })
     }
+}
+
+/// A bridge's curved top with its crest at `x_c` (m), curvature `c` (1/m): `g = -c (x - x_c)²`
+/// on the grid nodes (step `dx` m, `modes` interior nodes) from the second (the first is the
+/// seat) to [`BRIDGE_TOP`] or the crest, whichever is further.
+pub fn curved_top(c: f64, x_c: f64, dx: f64, modes: usize) -> Obstacle {
+    let end = BRIDGE_TOP.max(x_c) + 0.5 * dx;
+    Obstacle::Profile(
+        (1..=modes)
+            .map(|k| {
+                let x = k as f64 * dx;
+                (k >= 2 && x <= end).then(|| -c * (x - x_c).powi(2))
+            })
+            .collect(),
+    )
 }

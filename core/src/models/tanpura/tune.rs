@@ -12,7 +12,7 @@
 
 use super::spec::TanpuraSpec;
 use crate::error::ParamError;
-use crate::models::network::StringNetwork;
+use crate::models::network::{NetworkConfig, StringNetwork};
 use crate::models::string::TrianglePluck;
 
 /// Passes of the tuning.
@@ -59,19 +59,30 @@ pub fn pluck_of(spec: &TanpuraSpec) -> TrianglePluck {
 /// Each string's tension over its nominal tension after tuning by ear (all 1 when
 /// `spec.tune_by_ear` is off).
 pub fn tension_scales(spec: &TanpuraSpec) -> Result<Vec<f64>, ParamError> {
-    let n = spec.strings;
-    let mut scale = vec![1.0; n];
     if !spec.tune_by_ear {
-        return Ok(scale);
+        return Ok(vec![1.0; spec.strings]);
     }
-    let pluck = pluck_of(spec);
+    let targets: Vec<f64> = (0..spec.strings).map(|i| spec.target_hz(i)).collect();
+    let plucks = vec![pluck_of(spec); spec.strings];
+    tune_by_ear(|scale| spec.network(scale), &targets, &plucks)
+}
+
+/// Tunes the strings of the network `build(scale)` builds (string `i` at `scale[i]` times its
+/// nominal tension) to `targets` (Hz), each plucked alone by its `plucks[i]`; returns the
+/// scales ([`TUNE_PASSES`] passes, module doc).
+pub fn tune_by_ear(
+    build: impl Fn(&[f64]) -> Result<NetworkConfig, ParamError>,
+    targets: &[f64],
+    plucks: &[TrianglePluck],
+) -> Result<Vec<f64>, ParamError> {
+    let mut scale = vec![1.0; targets.len()];
     for _ in 0..TUNE_PASSES {
-        let config = spec.network(&scale)?;
+        let config = build(&scale)?;
         for (s, k) in scale.iter_mut().enumerate() {
             let mut net = StringNetwork::new(&config)?;
-            net.pluck(s, &pluck)?;
+            net.pluck(s, &plucks[s])?;
             if let Some(f) = first_partial_hz(&mut net, s, LISTEN_FROM, LISTEN_TO) {
-                *k *= (spec.target_hz(s) / f).powi(2);
+                *k *= (targets[s] / f).powi(2);
             }
         }
     }

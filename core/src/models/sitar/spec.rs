@@ -1,0 +1,242 @@
+//! The `[sitar]` table of a scene: the played string and its taraf of sympathetic strings,
+//! tuned to a thaat, on the main bridge and the taraf's small bridge. [`SitarSpec::network`]
+//! turns it into the network of strings on the bridges.
+//!
+//! Parsed and validated on the thread that loads it; never on the audio thread.
+
+use super::thaat::Thaat;
+use crate::error::{check_closed, ParamError};
+use crate::models::network::{BridgeMode, NetworkConfig, SeatedString};
+use crate::models::string::{
+    Losses, Obstacle, SeatSpec, Stiffness, StringConfig, StringParams, ValetteLosses,
+};
+use crate::models::tanpura::spec::{
+    curved_top, default_pluck_amplitude, default_sim_rate, default_true, JAWARI_CONTACT,
+    SEAT_STIFFNESS,
+};
+use serde::{Deserialize, Serialize};
+
+/// Length of the played string, m.
+pub const MAIN_LENGTH: f64 = 0.9;
+/// Diameter of the played string (steel), m.
+pub const MAIN_DIAMETER: f64 = 0.3e-3;
+/// Length of a taraf string, m.
+pub const TARAF_LENGTH: f64 = 0.45;
+/// Diameter of a taraf string (steel), m.
+pub const TARAF_DIAMETER: f64 = 0.2e-3;
+/// Curvature of the main bridge's top (1/m; the lecture's sitar bridge, 80 µm below the
+/// string's rest line 20 mm from the edge).
+pub const MAIN_BRIDGE_CURVATURE: f64 = 0.2;
+
+/// Steel: density (kg/m³) and Young's modulus (Pa).
+const STEEL: (f64, f64) = (7850.0, 200e9);
+
+/// The bridges: the main bridge's bounce (190 Hz, 60 g) and rocking (480 Hz, 30 g) modes and
+/// the taraf bridge's own mode (850 Hz, 10 g), with the shapes under the played string and
+/// under the taraf ([`MAIN_SHAPE`], [`TARAF_SHAPE`]): a modal model of the two bridges on one
+/// soundboard, which moves the taraf bridge when the main bridge moves and back.
+pub fn bridge_modes() -> Vec<BridgeMode> {
+    vec![
+        BridgeMode {
+            frequency: 190.0,
+            mass: 0.06,
+            t60: 0.3,
+        },
+        BridgeMode {
+            frequency: 480.0,
+            mass: 0.03,
+            t60: 0.3,
+        },
+        BridgeMode {
+            frequency: 850.0,
+            mass: 0.01,
+            t60: 0.2,
+        },
+    ]
+}
+
+/// The bridge modes' shapes under the played string.
+pub const MAIN_SHAPE: [f64; 3] = [1.0, 0.6, 0.2];
+/// The bridge modes' shapes under every taraf string.
+pub const TARAF_SHAPE: [f64; 3] = [0.4, -0.5, 1.0];
+
+/// A sitar scene: one played note and the taraf that answers it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SitarSpec {
+    /// Sa of the taraf's lower octave, Hz (100 to 600).
+    pub sa: f64,
+    /// The played note, Hz (60 to 1200): the played string sounds it (its frets are not
+    /// modelled: the string is tuned to the note).
+    pub note: f64,
+    /// The taraf's thaat.
+    #[serde(default)]
+    pub thaat: Thaat,
+    /// Number of taraf strings (0 to 13; a sitar has 11 to 13).
+    #[serde(default = "default_taraf")]
+    pub taraf: usize,
+    /// Fine tuning of each taraf string in cents (-100 to 100; empty, or one per string).
+    #[serde(default)]
+    pub taraf_cents: Vec<f64>,
+    /// Modes of the played string (32 to 4000).
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Modes of each taraf string (8 to 2000).
+    #[serde(default = "default_taraf_modes")]
+    pub taraf_modes: usize,
+    /// Simulation rate, Hz (16 000 to 1 000 000).
+    #[serde(default = "default_sim_rate")]
+    pub sim_rate: f64,
+    /// Pluck position as a fraction of the played string's length from the bridge (0.02 to
+    /// 0.95; the mizrab strikes near the bridge).
+    #[serde(default = "default_pluck_position")]
+    pub pluck_position: f64,
+    /// Pluck amplitude, m (1e-5 to 5e-3).
+    #[serde(default = "default_pluck_amplitude")]
+    pub pluck_amplitude: f64,
+    /// Tune every string by ear at build ([`crate::models::tanpura::tune`]).
+    #[serde(default = "default_true")]
+    pub tune_by_ear: bool,
+}
+
+fn default_taraf() -> usize {
+    11
+}
+fn default_modes() -> usize {
+    300
+}
+fn default_taraf_modes() -> usize {
+    48
+}
+fn default_pluck_position() -> f64 {
+    0.12
+}
+
+impl SitarSpec {
+    /// A sitar on `sa` Hz playing `note` Hz, every other field at its default.
+    pub fn at(sa: f64, note: f64) -> Self {
+        Self {
+            sa,
+            note,
+            thaat: Thaat::default(),
+            taraf: default_taraf(),
+            taraf_cents: Vec::new(),
+            modes: default_modes(),
+            taraf_modes: default_taraf_modes(),
+            sim_rate: default_sim_rate(),
+            pluck_position: default_pluck_position(),
+            pluck_amplitude: default_pluck_amplitude(),
+            tune_by_ear: true,
+        }
+    }
+
+    /// Checks every field; errors name `sitar.<field>`.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        check_closed("sitar.sa", self.sa, 100.0, 600.0)?;
+        check_closed("sitar.note", self.note, 60.0, 1200.0)?;
+        if self.taraf > 13 {
+            return Err(ParamError::new("sitar.taraf", self.taraf, "0 to 13"));
+        }
+        if !(self.taraf_cents.is_empty() || self.taraf_cents.len() == self.taraf) {
+            return Err(ParamError::new(
+                "sitar.taraf_cents",
+                format!("{} values", self.taraf_cents.len()),
+                format!("none or one per taraf string ({})", self.taraf),
+            ));
+        }
+        for (i, &c) in self.taraf_cents.iter().enumerate() {
+            check_closed(&format!("sitar.taraf_cents[{i}]"), c, -100.0, 100.0)?;
+        }
+        if !(32..=4000).contains(&self.modes) {
+            return Err(ParamError::new("sitar.modes", self.modes, "32 to 4000"));
+        }
+        if !(8..=2000).contains(&self.taraf_modes) {
+            return Err(ParamError::new(
+                "sitar.taraf_modes",
+                self.taraf_modes,
+                "8 to 2000",
+            ));
+        }
+        check_closed("sitar.sim_rate", self.sim_rate, 16_000.0, 1e6)?;
+        check_closed("sitar.pluck_position", self.pluck_position, 0.02, 0.95)?;
+        check_closed("sitar.pluck_amplitude", self.pluck_amplitude, 1e-5, 5e-3)?;
+        Ok(())
+    }
+
+    /// Every string's target frequency (Hz): the played note, then the taraf (the thaat from
+    /// Sa up, moved by their fine tuning).
+    pub fn targets(&self) -> Vec<f64> {
+        let mut t = vec![self.note];
+        for (i, r) in self.thaat.taraf(self.taraf).into_iter().enumerate() {
+            let cents = self.taraf_cents.get(i).copied().unwrap_or(0.0);
+            t.push(self.sa * r * 2f64.powf(cents / 1200.0));
+        }
+        t
+    }
+
+    /// String `i`'s `(length m, diameter m, modes)`: the played string first.
+    pub fn geometry(&self, i: usize) -> (f64, f64, usize) {
+        if i == 0 {
+            (MAIN_LENGTH, MAIN_DIAMETER, self.modes)
+        } else {
+            (TARAF_LENGTH, TARAF_DIAMETER, self.taraf_modes)
+        }
+    }
+
+    /// String `i`'s nominal tension `μ (2 L f)²` (N).
+    pub fn nominal_tension(&self, i: usize) -> f64 {
+        let (l, d, _) = self.geometry(i);
+        let mu = STEEL.0 * std::f64::consts::PI * d * d / 4.0;
+        mu * (2.0 * l * self.targets()[i]).powi(2)
+    }
+
+    /// The network with string `i` at `tension_scale[i]` times its nominal tension. Validates.
+    pub fn network(&self, tension_scale: &[f64]) -> Result<NetworkConfig, ParamError> {
+        self.validate()?;
+        let strings = (0..=self.taraf)
+            .map(|i| {
+                let (length, diameter, modes) = self.geometry(i);
+                let intervals = modes + 1;
+                let dx = length / intervals as f64;
+                let params = StringParams {
+                    length,
+                    tension: self.nominal_tension(i) * tension_scale[i],
+                    linear_density: STEEL.0 * std::f64::consts::PI * diameter * diameter / 4.0,
+                    stiffness: Stiffness::BendingStiffness(
+                        STEEL.1 * std::f64::consts::PI * diameter.powi(4) / 64.0,
+                    ),
+                    diameter,
+                    intervals,
+                    sample_rate: self.sim_rate,
+                };
+                let (obstacle, shape) = if i == 0 {
+                    (
+                        curved_top(MAIN_BRIDGE_CURVATURE, 0.0, dx, modes),
+                        MAIN_SHAPE,
+                    )
+                } else {
+                    (Obstacle::None, TARAF_SHAPE)
+                };
+                SeatedString {
+                    config: StringConfig {
+                        params,
+                        losses: Losses::Valette(ValetteLosses::default()),
+                        obstacle,
+                        contact: JAWARI_CONTACT,
+                        outputs: Vec::new(),
+                    },
+                    seat: SeatSpec {
+                        position: dx,
+                        stiffness: SEAT_STIFFNESS,
+                    },
+                    bridge_shape: shape.to_vec(),
+                }
+            })
+            .collect();
+        Ok(NetworkConfig {
+            strings,
+            bridge: bridge_modes(),
+            outputs: Vec::new(),
+        })
+    }
+}
