@@ -7,9 +7,10 @@
 //! times a trial voice (`engine/cost_trial.rs`: the root key plucked at full strength, the
 //! attack's contact included, in windows of about a host block, in thread CPU time). Its load
 //! (seconds of work per second of audio) must stay within the voice's share, on average and
-//! within [`WORST_WINDOW`] times it in the worst window; if not, the mode count comes down in
-//! proportion (the step is `O(N log N)` or `O(N · rows)`, nearly linear in `N`) with a margin
-//! and the trial runs again, at most [`FIT_ATTEMPTS`] trials. The reduction is reported with
+//! within [`WORST_WINDOW`] times it in the worst window (a trial over it is timed once more and
+//! the lower figures kept, so one disturbed window does not thin the string); if not, the mode
+//! count comes down in proportion (the step is `O(N log N)` or `O(N · rows)`, nearly linear in
+//! `N`) with a margin and the trial runs again, at most [`FIT_ATTEMPTS`] trials. The reduction is reported with
 //! the bank ([`ModesFitted`]), and the last trial's price per step goes with every voice (the
 //! governor's note-on check, `engine/governor.rs`). Off the governor (offline renders) the
 //! string keeps every mode it asks for.
@@ -17,7 +18,7 @@
 //! Worker thread (allocates; a trial takes at most `TRIAL_CPU_LIMIT · TRIAL_SECONDS` of CPU
 //! time, so a fit at most a second or so).
 
-use super::cost_trial::{time_note, Jobs};
+use super::cost_trial::{time_note, Jobs, TrialLoad};
 use super::kinds::ModelKind;
 use super::memory::{FitReason, ModesFitted};
 use super::model_spec::string_spec;
@@ -59,9 +60,23 @@ pub(super) fn string_voices(
     if let Some(share) = share {
         for attempt in 1..=FIT_ATTEMPTS {
             let mut trial = string_voice(&config)?;
-            let Some(load) = time_note(&mut trial, v, jobs) else {
+            let Some(mut load) = time_note(&mut trial, v, jobs) else {
                 break;
             };
+            let over = |l: &TrialLoad| l.mean > share || l.worst > WORST_WINDOW * share;
+            if over(&load) {
+                // A trial is thread CPU time on a shared machine: one disturbed window (a
+                // burst of page faults, a host taking the core) can make a cheap string look
+                // too costly. Before reducing, time it once more and keep the lower of each
+                // figure; a string that is too costly is too costly both times.
+                if let Some(again) = time_note(&mut trial, v, jobs) {
+                    load = TrialLoad {
+                        mean: load.mean.min(again.mean),
+                        worst: load.worst.min(again.worst),
+                        price: load.price.min(again.price),
+                    };
+                }
+            }
             price = Some(load.price);
             let scale = (share / load.mean).min(WORST_WINDOW * share / load.worst);
             if scale >= 1.0 || modes <= MIN_FITTED_MODES || attempt == FIT_ATTEMPTS {
