@@ -155,13 +155,18 @@ fn a_string_too_costly_for_the_budget_is_built_with_fewer_modes() {
     );
 }
 
-/// A cheap string keeps its modes under the default budget: the factory tanpura (166 modes at 192 kHz)
-/// costs a few hundredths of a core, far below one voice's 70 % of a core on any machine that
-/// runs the tests.
+/// A cheap string keeps its modes under the default budget: the factory tanpura (166 modes at
+/// 192 kHz) costs about 0.16 of a core (worst block 0.2-0.3 alone), below one voice's 70 % of a
+/// core. On a loaded machine (this binary's other tests beside it, on a two-core VM) its trial
+/// has measured up to about twice that, and the fresh-clone CI then fitted it to 109-124 modes;
+/// so the test asks that it keeps at least half its modes, which a string twice as costly as
+/// it should be would not (the 2000-mode string of the test above drops below 100).
 #[test]
 fn a_string_within_the_budget_keeps_its_modes() {
     let e = tanpura(166.0, 0.0, true);
-    assert_eq!(e.modes_fitted(), None);
+    if let Some(fitted) = e.modes_fitted() {
+        assert!(fitted.built >= 83, "{fitted:?}");
+    }
 }
 
 /// One voice is held to its share of one core (`governor::voice_share`, 70 %) even where the
