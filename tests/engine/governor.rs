@@ -159,8 +159,9 @@ fn a_string_too_costly_for_the_budget_is_built_with_fewer_modes() {
 /// 192 kHz) costs about 0.16 of a core (worst block 0.2-0.3 alone), below one voice's 70 % of a
 /// core. On a loaded machine (this binary's other tests beside it, on a two-core VM) its trial
 /// has measured up to about twice that, and the fresh-clone CI then fitted it to 109-124 modes;
-/// so the test asks that it keeps at least half its modes, which a string twice as costly as
-/// it should be would not (the 2000-mode string of the test above drops below 100).
+/// so the test asks that it keeps at least half its modes. Alone, a string about eight times
+/// as costly would be fitted below that (its worst window past 1.7 times the limit); the
+/// 2000-mode string of the test above drops below 100.
 #[test]
 fn a_string_within_the_budget_keeps_its_modes() {
     let e = tanpura(166.0, 0.0, true);
