@@ -14,6 +14,7 @@ use crate::models::tanpura::spec::{
     curved_top, default_pluck_amplitude, default_sim_rate, default_true, JAWARI_CONTACT,
     SEAT_STIFFNESS,
 };
+use crate::models::tanpura::Metal;
 use serde::{Deserialize, Serialize};
 
 /// Length of the played string, m.
@@ -27,9 +28,6 @@ pub const TARAF_DIAMETER: f64 = 0.2e-3;
 /// Curvature of the main bridge's top (1/m; the lecture's sitar bridge, 80 µm below the
 /// string's rest line 20 mm from the edge).
 pub const MAIN_BRIDGE_CURVATURE: f64 = 0.2;
-
-/// Steel: density (kg/m³) and Young's modulus (Pa).
-const STEEL: (f64, f64) = (7850.0, 200e9);
 
 /// The bridges: the main bridge's bounce (190 Hz, 60 g) and rocking (480 Hz, 30 g) modes and
 /// the taraf bridge's own mode (850 Hz, 10 g), with the shapes under the played string and
@@ -186,7 +184,7 @@ impl SitarSpec {
     /// String `i`'s nominal tension `μ (2 L f)²` (N).
     pub fn nominal_tension(&self, i: usize) -> f64 {
         let (l, d, _) = self.geometry(i);
-        let mu = STEEL.0 * std::f64::consts::PI * d * d / 4.0;
+        let mu = Metal::Steel.linear_density(d);
         mu * (2.0 * l * self.targets()[i]).powi(2)
     }
 
@@ -201,9 +199,9 @@ impl SitarSpec {
                 let params = StringParams {
                     length,
                     tension: self.nominal_tension(i) * tension_scale[i],
-                    linear_density: STEEL.0 * std::f64::consts::PI * diameter * diameter / 4.0,
+                    linear_density: Metal::Steel.linear_density(diameter),
                     stiffness: Stiffness::BendingStiffness(
-                        STEEL.1 * std::f64::consts::PI * diameter.powi(4) / 64.0,
+                        Metal::Steel.bending_stiffness(diameter),
                     ),
                     diameter,
                     intervals,

@@ -53,6 +53,34 @@ pub enum Metal {
     Bronze,
 }
 
+impl Metal {
+    /// Density in kg/m³.
+    pub fn density(self) -> f64 {
+        match self {
+            Metal::Steel => 7850.0,
+            Metal::Bronze => 8800.0,
+        }
+    }
+
+    /// Young's modulus in Pa.
+    pub fn young(self) -> f64 {
+        match self {
+            Metal::Steel => 200e9,
+            Metal::Bronze => 110e9,
+        }
+    }
+
+    /// Linear density `ρπd²/4` (kg/m) of a round wire of diameter `d` (m).
+    pub fn linear_density(self, d: f64) -> f64 {
+        self.density() * std::f64::consts::PI * d * d / 4.0
+    }
+
+    /// Bending stiffness `E π d⁴/64` (N·m²) of a round wire of diameter `d` (m).
+    pub fn bending_stiffness(self, d: f64) -> f64 {
+        self.young() * std::f64::consts::PI * d.powi(4) / 64.0
+    }
+}
+
 /// One string of the tanpura: its note and its metal.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TanpuraString {
@@ -83,28 +111,22 @@ impl TanpuraString {
 
     /// Density in kg/m³.
     pub fn density(&self) -> f64 {
-        match self.metal {
-            Metal::Steel => 7850.0,
-            Metal::Bronze => 8800.0,
-        }
+        self.metal.density()
     }
 
     /// Young's modulus in Pa.
     pub fn young(&self) -> f64 {
-        match self.metal {
-            Metal::Steel => 200e9,
-            Metal::Bronze => 110e9,
-        }
+        self.metal.young()
     }
 
     /// Linear density `ρπd²/4` in kg/m.
     pub fn linear_density(&self) -> f64 {
-        self.density() * std::f64::consts::PI * self.diameter * self.diameter / 4.0
+        self.metal.linear_density(self.diameter)
     }
 
     /// Bending stiffness `E π d⁴/64` in N·m².
     pub fn bending_stiffness(&self) -> f64 {
-        self.young() * std::f64::consts::PI * self.diameter.powi(4) / 64.0
+        self.metal.bending_stiffness(self.diameter)
     }
 }
 
