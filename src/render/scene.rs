@@ -95,25 +95,18 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
                 step_threads,
             })
         }
-        (None, None) if scene.tanpura.is_some() => {
-            let spec = scene.tanpura.as_ref().expect("checked");
+        (None, None) => {
+            let (source, model, modes): (Box<dyn RenderSource>, _, _) =
+                match (&scene.tanpura, &scene.sitar) {
+                    (Some(spec), None) => (Box::new(Tanpura::build(spec)?), "tanpura", spec.modes),
+                    (None, Some(spec)) => (Box::new(Sitar::build(spec)?), "sitar", spec.modes),
+                    _ => return Err(no_single_model(scene)),
+                };
             Ok(SceneSource {
-                source: Box::new(Tanpura::build(spec)?),
-                model: "tanpura",
+                source,
+                model,
                 scheme: "exact-modal+discrete-gradient-network".into(),
-                n_phi: spec.modes,
-                n_psi: 0,
-                snapshots: Vec::new(),
-                step_threads: 1,
-            })
-        }
-        (None, None) if scene.sitar.is_some() => {
-            let spec = scene.sitar.as_ref().expect("checked");
-            Ok(SceneSource {
-                source: Box::new(Sitar::build(spec)?),
-                model: "sitar",
-                scheme: "exact-modal+discrete-gradient-network".into(),
-                n_phi: spec.modes,
+                n_phi: modes,
                 n_psi: 0,
                 snapshots: Vec::new(),
                 step_threads: 1,
@@ -133,14 +126,19 @@ pub fn build_source_on(scene: &Scene, threads: usize) -> Result<SceneSource, Par
             snapshots: string.effective_snapshots(),
             step_threads: 1,
         }),
-        _ => Err(scene.validate().err().unwrap_or_else(|| {
-            ParamError::new(
-                "plate",
-                "missing",
-                "a scene needs exactly one model table: [plate], [string], [tanpura] or [sitar]",
-            )
-        })),
+        _ => Err(no_single_model(scene)),
     }
+}
+
+/// The error of a scene without exactly one model table: its validation's, or a missing table.
+fn no_single_model(scene: &Scene) -> ParamError {
+    scene.validate().err().unwrap_or_else(|| {
+        ParamError::new(
+            "plate",
+            "missing",
+            "a scene needs exactly one model table: [plate], [string], [tanpura] or [sitar]",
+        )
+    })
 }
 
 /// Builds the scene's model, renders it and returns the signals and the report. `progress`
