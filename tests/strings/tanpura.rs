@@ -336,3 +336,33 @@ fn a_retuned_drone_sounds_the_held_key() {
     let released = t.network().energy_terms().total();
     assert!(released < 1e-9 * held, "{released:e} of {held:e}");
 }
+
+/// The drone's stepping-thread methods (step, retune, strength, plucking, reset) do not
+/// allocate (the binary's counting allocator); the retune interpolates the anchors' table in
+/// place.
+#[test]
+fn the_drone_plays_and_retunes_without_allocating() {
+    let mut spec = TanpuraSpec::at(138.59);
+    spec.modes = 120;
+    spec.jivari_mm = vec![15.0];
+    let mut t = Tanpura::build_for_keys(&spec, &[-12.0, 12.0]).unwrap();
+    let n = noether_testkit::alloc::count_allocations(|| {
+        for k in 0..4 {
+            t.retune(2f64.powf((k as f64 - 2.0) / 5.0), 0.0).unwrap();
+            t.set_strength(0.25 * k as f64).unwrap();
+            for _ in 0..2000 {
+                t.step();
+            }
+        }
+        t.set_plucking(false);
+        t.retune(1.0, 20.0).unwrap();
+        for _ in 0..2000 {
+            t.step();
+        }
+        t.reset();
+        t.set_plucking(true);
+        t.step();
+    })
+    .1;
+    assert_eq!(n, 0, "allocations in the drone's real-time methods");
+}
