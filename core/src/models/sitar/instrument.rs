@@ -1,9 +1,11 @@
 //! [`Sitar`]: the played string and its taraf on the bridges, tuned by ear, one note plucked.
 
+use super::phrase::{phrase_steps, StrokeSteps};
 use super::spec::SitarSpec;
 use crate::error::ParamError;
 use crate::models::network::{BridgeInstrument, StringNetwork};
-use crate::models::string::TrianglePluck;
+use crate::models::string::params::Stiffness;
+use crate::models::string::{TrianglePluck, ValetteLosses};
 use crate::models::tanpura::instrument::pan_gains;
 use crate::models::tanpura::tune::tune_by_ear;
 
@@ -11,8 +13,8 @@ use crate::models::tanpura::tune::tune_by_ear;
 const TARAF_TUNING_PLUCK: f64 = 3e-4;
 
 /// A sitar: the played string (string 0, with the curved jawari of the main bridge) and its
-/// taraf (strings 1 and up) on the bridges' shared modes. The played string is plucked at the
-/// first step; the taraf answers through the bridges. The output is the strings' forces on the
+/// taraf (strings 1 and up) on the bridges' shared modes. The played string plays the phrase
+/// (or, without one, is plucked at the first step); the taraf answers through the bridges. The output is the strings' forces on the
 /// bridges, the played string in the centre and the taraf spread across the image.
 ///
 /// Built on the control thread ([`Sitar::build`]); stepped without allocating.
@@ -24,6 +26,18 @@ pub struct Sitar {
     pan: Vec<[f64; 2]>,
     /// Per string, its tension after tuning (N).
     tensions: Vec<f64>,
+    /// The phrase in steps (empty: the one pluck at build).
+    phrase: Vec<StrokeSteps>,
+    /// The next stroke of the phrase.
+    next: usize,
+    /// The stroke sounding (its fret and meend set the played string's pitch).
+    sounding: Option<StrokeSteps>,
+    /// The played string's pluck at full strength.
+    pluck: TrianglePluck,
+    /// The played string's bending stiffness (N·m²), kept when the phrase retunes it.
+    stiffness: f64,
+    /// Steps taken.
+    step: u64,
 }
 
 impl Sitar {
@@ -55,7 +69,17 @@ impl Sitar {
             vec![1.0; n]
         };
         let mut network = StringNetwork::new(&spec.network(&scales)?)?;
-        network.pluck(0, &plucks[0])?;
+        if spec.phrase.is_empty() {
+            network.pluck(0, &plucks[0])?;
+        }
+        let stiffness = match network.strings()[0].params().stiffness {
+            Stiffness::BendingStiffness(ei) => ei,
+            Stiffness::Inharmonicity(b) => {
+                let p = network.strings()[0].params();
+                b * p.tension * p.length * p.length / std::f64::consts::PI.powi(2)
+            }
+        };
+        let phrase = phrase_steps(&spec.phrase, spec.note, network.h());
         let pan = (0..n)
             .map(|i| {
                 if i == 0 || n == 1 {
@@ -72,6 +96,12 @@ impl Sitar {
             network,
             pan,
             tensions,
+            phrase,
+            next: 0,
+            sounding: None,
+            pluck: plucks[0],
+            stiffness,
+            step: 0,
         })
     }
 
@@ -85,9 +115,52 @@ impl Sitar {
         &self.tensions
     }
 
-    /// Advances one step. No allocation.
+    /// Plays the phrase's strokes due at this step (a stroke sets the played string's tension
+    /// to its fret and plucks it on top of its motion), moves the pitch along a meend, then
+    /// advances the network one step. No allocation; O(modes) on a step that retunes.
     pub fn step(&mut self) {
+        let n = self.step;
+        while let Some(&stroke) = self.phrase.get(self.next).filter(|s| s.at <= n) {
+            self.next += 1;
+            self.sounding = Some(stroke);
+            self.set_pitch(stroke.ratio);
+            if stroke.strength > 0.0 {
+                let p = TrianglePluck {
+                    amplitude: self.pluck.amplitude * stroke.strength,
+                    ..self.pluck
+                };
+                // The amplitude was validated at build and the strength is at most 1.
+                let ok = self.network.pluck(0, &p).is_ok();
+                debug_assert!(ok);
+            }
+        }
+        if let Some(stroke) = self.sounding.filter(|s| s.gliding(n)) {
+            self.set_pitch(stroke.ratio_at(n));
+        }
         self.network.step();
+        self.step += 1;
+    }
+
+    /// Sets the played string to `ratio` times its open pitch by its tension (`T ∝ ratio²`).
+    fn set_pitch(&mut self, ratio: f64) {
+        // Finite and positive by the phrase's validation: cannot refuse.
+        let ok = self
+            .network
+            .string_mut(0)
+            .retune(
+                self.tensions[0] * ratio * ratio,
+                Stiffness::BendingStiffness(self.stiffness),
+                Some(&ValetteLosses::default()),
+                1.0,
+                0.0,
+            )
+            .is_ok();
+        debug_assert!(ok);
+    }
+
+    /// Steps taken.
+    pub fn steps(&self) -> u64 {
+        self.step
     }
 }
 

@@ -4,6 +4,7 @@
 //!
 //! Parsed and validated on the thread that loads it; never on the audio thread.
 
+use super::phrase::SitarStroke;
 use super::thaat::Thaat;
 use crate::error::{check_closed, ParamError};
 use crate::models::network::{BridgeMode, NetworkConfig, SeatedString};
@@ -95,6 +96,11 @@ pub struct SitarSpec {
     /// Tune every string by ear at build ([`crate::models::tanpura::tune`]).
     #[serde(default = "default_true")]
     pub tune_by_ear: bool,
+    /// The phrase played on the played string, in time order ([`SitarStroke`]: frets and
+    /// meends); empty (the default): `note` plucked at the start. The played string is tuned
+    /// (by ear) to `note` either way, its open pitch.
+    #[serde(default)]
+    pub phrase: Vec<SitarStroke>,
 }
 
 fn default_taraf() -> usize {
@@ -125,6 +131,7 @@ impl SitarSpec {
             pluck_position: default_pluck_position(),
             pluck_amplitude: default_pluck_amplitude(),
             tune_by_ear: true,
+            phrase: Vec::new(),
         }
     }
 
@@ -158,6 +165,11 @@ impl SitarSpec {
         check_closed("sitar.sim_rate", self.sim_rate, 16_000.0, 1e6)?;
         check_closed("sitar.pluck_position", self.pluck_position, 0.02, 0.95)?;
         check_closed("sitar.pluck_amplitude", self.pluck_amplitude, 1e-5, 5e-3)?;
+        let mut previous = 0.0;
+        for (i, stroke) in self.phrase.iter().enumerate() {
+            stroke.validate(i, previous)?;
+            previous = stroke.at;
+        }
         Ok(())
     }
 
