@@ -4,12 +4,20 @@
 //! a 4 s cycle). A plucked string rises by its pluck's energy; the others rise between their own
 //! plucks as the bridge hands them energy (the two Sa strings most, sounding the same note).
 //!
+//! Then the jawari's sweep: string 1 (Pa, 103.9 Hz) plucked alone, the centre of its band of
+//! harmonics louder than the spectrum's trend ([`noether::analysis::formant`]) every 50 ms
+//! over the first second, with the jivari at 5 mm on the default grid (480 modes, 2.1 mm) and
+//! on a finer one (1900 modes, 0.53 mm), and without the thread.
+//!
 //! Run: `cargo run --release --example tanpura_drone [OUT_DIR]` (default `out`): prints each
-//! string's tension after tuning by ear and its share of the energy at the end of each cycle,
-//! and writes `OUT_DIR/tanpura-drone-strings.png`.
+//! string's tension after tuning by ear, its share of the energy at the end of each cycle and
+//! the formant's track, and writes `OUT_DIR/tanpura-drone-strings.png` and
+//! `OUT_DIR/tanpura-jawari-formant.png`.
 
-use noether::models::tanpura::Tanpura;
-use noether::plot::{write_png, Panel, Scale, Series};
+use noether::analysis::formant::harmonic_formant;
+use noether::models::network::BridgeInstrument;
+use noether::models::tanpura::{Tanpura, TanpuraSpec};
+use noether::plot::{write_png, Mark, Panel, Scale, Series};
 use noether::scene::Scene;
 use std::path::{Path, PathBuf};
 
@@ -71,6 +79,55 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     write_png(
         &path,
         "tanpura-drone: energy of each string",
+        &[panel],
+        1,
+        (1100, 520),
+    )?;
+    println!("wrote {}", path.display());
+    jawari_formant(&spec, &out)
+}
+
+/// The formant's track of string 1 plucked alone, with and without the thread (module doc).
+fn jawari_formant(spec: &TanpuraSpec, out: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let times: Vec<f64> = (1..=19).map(|k| 0.05 * k as f64).collect();
+    let mut panel = Panel::new(
+        "The jawari's formant: string 1 (Pa) plucked alone",
+        "time after the pluck (s)",
+        "formant centre (Hz)",
+    );
+    for (label, jivari, modes) in [
+        ("jivari 5 mm, 480 modes (2.1 mm grid)", 5.0, 480),
+        ("jivari 5 mm, 1900 modes (0.53 mm grid)", 5.0, 1900),
+        ("no thread, 480 modes", 0.0, 480),
+    ] {
+        let mut s = spec.clone();
+        s.cycle_seconds = 30.0;
+        s.jivari_mm = vec![jivari];
+        s.modes = modes;
+        let mut drone = Tanpura::build(&s)?;
+        let rate = 1.0 / drone.network().h();
+        let mut x = Vec::new();
+        while drone.steps() < (1.2 * rate) as u64 {
+            drone.step();
+            let [l, r] = drone.network().bridge_force_mix(drone.gains());
+            x.push(l + r);
+        }
+        let frames = harmonic_formant(&x, rate, s.target_hz(0), &times);
+        let track: Vec<usize> = frames.iter().map(|f| f.harmonic).collect();
+        println!("formant harmonic every 50 ms from 0.05 s, {label}: {track:?}");
+        panel = panel.push(
+            Series::line(
+                label,
+                frames.iter().map(|f| f.time).collect(),
+                frames.iter().map(|f| f.hz).collect(),
+            )
+            .with_mark(Mark::LinePoints),
+        );
+    }
+    let path = out.join("tanpura-jawari-formant.png");
+    write_png(
+        &path,
+        "tanpura: the jawari's sweep",
         &[panel],
         1,
         (1100, 520),

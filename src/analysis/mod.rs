@@ -3,6 +3,7 @@
 
 pub use noether_core::analysis::*;
 
+pub mod formant;
 pub mod fundamental;
 pub mod glide;
 pub mod spectrogram;
