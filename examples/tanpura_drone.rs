@@ -4,17 +4,18 @@
 //! a 4 s cycle). A plucked string rises by its pluck's energy; the others rise between their own
 //! plucks as the bridge hands them energy (the two Sa strings most, sounding the same note).
 //!
-//! Then the jawari's sweep: string 1 (Pa, 103.9 Hz) plucked alone, the centre of its band of
-//! harmonics louder than the spectrum's trend ([`noether::analysis::formant`]) every 50 ms
-//! over the first second, with the jivari at 5 mm on the default grid (480 modes, 2.1 mm) and
-//! on a finer one (1900 modes, 0.53 mm), and without the thread.
+//! Then the jawari's sweep: string 1 (Pa, 103.9 Hz, 480 modes) plucked alone, its band of
+//! harmonics louder than the spectrum's trend followed as a ridge
+//! ([`noether::analysis::formant::formant_ridge`]) every 50 ms over the first second: with the
+//! jivari at 5 mm and without the thread at 192 kHz (the string's modes under the Nyquist
+//! frequency), and with the jivari at the scene's 48 kHz (they alias).
 //!
 //! Run: `cargo run --release --example tanpura_drone [OUT_DIR]` (default `out`): prints each
 //! string's tension after tuning by ear, its share of the energy at the end of each cycle and
 //! the formant's track, and writes `OUT_DIR/tanpura-drone-strings.png` and
 //! `OUT_DIR/tanpura-jawari-formant.png`.
 
-use noether::analysis::formant::harmonic_formant;
+use noether::analysis::formant::formant_ridge;
 use noether::models::network::BridgeInstrument;
 use noether::models::tanpura::{Tanpura, TanpuraSpec};
 use noether::plot::{write_png, Mark, Panel, Scale, Series};
@@ -91,19 +92,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 fn jawari_formant(spec: &TanpuraSpec, out: &Path) -> Result<(), Box<dyn std::error::Error>> {
     let times: Vec<f64> = (1..=19).map(|k| 0.05 * k as f64).collect();
     let mut panel = Panel::new(
-        "The jawari's formant: string 1 (Pa) plucked alone",
+        "The jawari's formant, followed as a ridge: string 1 (Pa, 480 modes) plucked alone",
         "time after the pluck (s)",
         "formant centre (Hz)",
     );
-    for (label, jivari, modes) in [
-        ("jivari 5 mm, 480 modes (2.1 mm grid)", 5.0, 480),
-        ("jivari 5 mm, 1900 modes (0.53 mm grid)", 5.0, 1900),
-        ("no thread, 480 modes", 0.0, 480),
+    for (label, jivari, rate) in [
+        ("jivari 5 mm, 192 kHz", 5.0, 192_000.0),
+        ("no thread, 192 kHz", 0.0, 192_000.0),
+        ("jivari 5 mm, 48 kHz (modes aliased)", 5.0, 48_000.0),
     ] {
         let mut s = spec.clone();
         s.cycle_seconds = 30.0;
         s.jivari_mm = vec![jivari];
-        s.modes = modes;
+        s.sim_rate = rate;
+        s.tune_by_ear = false;
         let mut drone = Tanpura::build(&s)?;
         let rate = 1.0 / drone.network().h();
         let mut x = Vec::new();
@@ -112,9 +114,9 @@ fn jawari_formant(spec: &TanpuraSpec, out: &Path) -> Result<(), Box<dyn std::err
             let [l, r] = drone.network().bridge_force_mix(drone.gains());
             x.push(l + r);
         }
-        let frames = harmonic_formant(&x, rate, s.target_hz(0), &times);
+        let frames = formant_ridge(&x, rate, s.target_hz(0), &times);
         let track: Vec<usize> = frames.iter().map(|f| f.harmonic).collect();
-        println!("formant harmonic every 50 ms from 0.05 s, {label}: {track:?}");
+        println!("formant ridge every 50 ms from 0.05 s, {label}: {track:?}");
         panel = panel.push(
             Series::line(
                 label,

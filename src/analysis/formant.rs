@@ -2,7 +2,8 @@
 //! harmonics louder than the spectrum's trend, whose centre moves down over the first second
 //! of a pluck (Raman 1921; Valette, *Mechanics of Musical Instruments*, 1995).
 //!
-//! Per frame (Hann window of [`FORMANT_WINDOW`] samples starting at each time):
+//! Per frame (Hann window of [`FORMANT_WINDOW`] samples at 48 kHz, the same duration at other
+//! rates, starting at each time):
 //! 1. the level `L_n` (dB) of harmonic `n = 1 …`: the largest bin within ±1.5 % of `n f_1`
 //!    (the partials of a stiff string against a bridge lie within that of `n f_1`);
 //! 2. the trend: a straight line in `log₂ n` fitted to `L_n` over `n ≥ 3` by least squares
@@ -16,7 +17,8 @@
 
 use rustfft::{num_complex::Complex, FftPlanner};
 
-/// Samples per frame (0.17 s at 48 kHz: harmonics of 100 Hz resolved 17 times over).
+/// Samples per frame at 48 kHz (0.17 s: harmonics of 100 Hz resolved 17 times over); at other
+/// rates the power of two nearest the same duration.
 pub const FORMANT_WINDOW: usize = 8192;
 
 /// Lowest harmonic the formant may sit on (below it the trend's fit is the fundamental's).
@@ -42,10 +44,79 @@ pub struct FormantFrame {
 }
 
 /// The formant of `x` (sampled at `rate` Hz, fundamental `f1` Hz) in frames starting at each
-/// of `times` (s); frames that would run past the signal's end are left out. Harmonics above
-/// 0.45 `rate` are not measured.
+/// of `times` (s): each frame's largest excess over the trend. Frames that would run past the
+/// signal's end are left out; harmonics above 0.45 `rate` are not measured.
 pub fn harmonic_formant(x: &[f64], rate: f64, f1: f64, times: &[f64]) -> Vec<FormantFrame> {
-    let n_fft = FORMANT_WINDOW;
+    excess_over_trend(x, rate, f1, times)
+        .into_iter()
+        .map(|(time, smooth)| {
+            let best = (FIRST_HARMONIC..=LAST_HARMONIC)
+                .max_by(|&a, &b| smooth[a - 1].total_cmp(&smooth[b - 1]))
+                .unwrap_or(FIRST_HARMONIC);
+            frame(time, best, f1, &smooth)
+        })
+        .collect()
+}
+
+/// The formant followed as a ridge: from the first frame's largest excess, in each next frame
+/// the highest local maximum of the excess within [`RIDGE_DOWN`] harmonics below and
+/// [`RIDGE_UP`] above the last one (a moving band is followed while it moves; a band standing
+/// still stays where it is, even when another outgrows it elsewhere). Frames as
+/// [`harmonic_formant`]'s.
+pub fn formant_ridge(x: &[f64], rate: f64, f1: f64, times: &[f64]) -> Vec<FormantFrame> {
+    let mut last: Option<usize> = None;
+    excess_over_trend(x, rate, f1, times)
+        .into_iter()
+        .map(|(time, smooth)| {
+            let top = smooth.len().min(LAST_HARMONIC);
+            let (lo, hi) = match last {
+                None => (FIRST_HARMONIC, top),
+                Some(h) => (
+                    h.saturating_sub(RIDGE_DOWN).max(FIRST_HARMONIC),
+                    (h + RIDGE_UP).min(top),
+                ),
+            };
+            let peak = |h: usize| {
+                let v = smooth[h - 1];
+                (h == 1 || v >= smooth[h - 2]) && (h == smooth.len() || v >= smooth[h])
+            };
+            let best = (lo..=hi)
+                .filter(|&h| last.is_none() || peak(h))
+                .max_by(|&a, &b| smooth[a - 1].total_cmp(&smooth[b - 1]))
+                .or(last)
+                .unwrap_or(FIRST_HARMONIC);
+            last = Some(best);
+            frame(time, best, f1, &smooth)
+        })
+        .collect()
+}
+
+/// Harmonics a ridge may move down between frames.
+pub const RIDGE_DOWN: usize = 8;
+
+/// Harmonics a ridge may move up between frames.
+pub const RIDGE_UP: usize = 2;
+
+/// The frame at `time` with the formant on harmonic `best` of the smoothed excess `smooth`.
+fn frame(time: f64, best: usize, f1: f64, smooth: &[f64]) -> FormantFrame {
+    let (lo, hi) = (best as f64 / 1.5, best as f64 * 1.5);
+    let mut near: Vec<f64> = (1..=smooth.len())
+        .filter(|&h| (h as f64) >= lo && (h as f64) <= hi)
+        .map(|h| smooth[h - 1])
+        .collect();
+    near.sort_by(f64::total_cmp);
+    FormantFrame {
+        time,
+        harmonic: best,
+        hz: best as f64 * f1,
+        prominence_db: smooth[best - 1] - near[near.len() / 2],
+    }
+}
+
+/// Per frame (its start time, s), the harmonics' excess over the spectrum's trend, smoothed
+/// over three harmonics (dB; index `n - 1` for harmonic `n`; module doc, steps 1 to 3).
+fn excess_over_trend(x: &[f64], rate: f64, f1: f64, times: &[f64]) -> Vec<(f64, Vec<f64>)> {
+    let n_fft = window_at(rate);
     let fft = FftPlanner::<f64>::new().plan_fft_forward(n_fft);
     let hann: Vec<f64> = (0..n_fft)
         .map(|n| 0.5 - 0.5 * (std::f64::consts::TAU * n as f64 / n_fft as f64).cos())
@@ -94,24 +165,16 @@ pub fn harmonic_formant(x: &[f64], rate: f64, f1: f64, times: &[f64]) -> Vec<For
                 resid[a..=b].iter().sum::<f64>() / (b - a + 1) as f64
             })
             .collect();
-        let best = (FIRST_HARMONIC..=LAST_HARMONIC)
-            .max_by(|&a, &b| smooth[a - 1].total_cmp(&smooth[b - 1]))
-            .unwrap_or(FIRST_HARMONIC);
-        let (lo, hi) = (best as f64 / 1.5, best as f64 * 1.5);
-        let mut near: Vec<f64> = (1..=top)
-            .filter(|&h| (h as f64) >= lo && (h as f64) <= hi)
-            .map(|h| smooth[h - 1])
-            .collect();
-        near.sort_by(f64::total_cmp);
-        let median = near[near.len() / 2];
-        out.push(FormantFrame {
-            time: t,
-            harmonic: best,
-            hz: best as f64 * f1,
-            prominence_db: smooth[best - 1] - median,
-        });
+        out.push((t, smooth));
     }
     out
+}
+
+/// The frame length at `rate` Hz: the power of two nearest [`FORMANT_WINDOW`]'s duration at
+/// 48 kHz.
+fn window_at(rate: f64) -> usize {
+    let exact = FORMANT_WINDOW as f64 * rate / 48_000.0;
+    1usize << (exact.max(16.0).log2().round() as u32)
 }
 
 #[cfg(test)]

@@ -367,41 +367,47 @@ fn the_drone_plays_and_retunes_without_allocating() {
     assert_eq!(n, 0, "allocations in the drone's real-time methods");
 }
 
-/// The jawari's sweep: string 1 of the drone (Pa, 103.9 Hz) plucked alone, on a grid of
-/// 0.53 mm (1900 modes; the factory drone's 2.1 mm grid shows the same sweep, but a steady
-/// bump near harmonic 41 outgrows it after 0.5 s: docs/models.md). With the jivari at 5 mm,
-/// the band of harmonics louder than the spectrum's trend ([`noether::analysis::formant`])
-/// moves down over the first second: measured every 50 ms from 0.05 to 0.95 s, its harmonic
-/// never rises by more than one (the measurement's grain) and ends at most two thirds of where
-/// it began (measured: 28 down to 9). Without the thread the spectrum's largest bump does not
-/// move so (it rises from 15 to 25 at 0.15 s and stays), so the test fails when the jivari is
-/// ignored.
+/// The jawari's sweep: string 1 of the drone (Pa, 103.9 Hz, 480 modes) plucked alone, at
+/// 192 kHz, where its modes (to 50 kHz) stay under the Nyquist frequency (at 48 kHz they alias:
+/// docs/models.md, "Strings on a moving bridge"). The band of harmonics louder than the
+/// spectrum's trend is followed as a ridge ([`noether::analysis::formant::formant_ridge`])
+/// every 50 ms from 0.05 to 0.95 s. With the jivari at 5 mm it moves down: it ends at most two
+/// thirds of where it began and steps down in at least five of the eighteen intervals (a
+/// moving band; measured: from harmonic 35 to 11, down in nine). Without the thread the bands
+/// stand: the ridge holds harmonic 36 for half a second and then jumps to the next standing
+/// band (measured: down in two intervals), so the test fails when the jivari is ignored.
+/// Tuning by ear is off (the pitch does not matter here; the harmonics are looked for within
+/// 1.5 % of the nominal ones).
 #[test]
 fn the_jivari_sweeps_a_formant_down() {
-    use noether::analysis::formant::harmonic_formant;
+    use noether::analysis::formant::formant_ridge;
     use noether::models::network::BridgeInstrument;
+    let rate = 192_000.0;
     let track = |jivari: f64| {
         let mut spec = TanpuraSpec::at(138.59);
         spec.cycle_seconds = 30.0;
-        spec.modes = 1900;
+        spec.sim_rate = rate;
+        spec.tune_by_ear = false;
         spec.jivari_mm = vec![jivari];
         let mut t = Tanpura::build(&spec).unwrap();
         let mut x = Vec::new();
-        while t.steps() < (1.15 * FS) as u64 {
+        while t.steps() < (1.2 * rate) as u64 {
             t.step();
             let [l, r] = t.network().bridge_force_mix(t.gains());
             x.push(l + r);
         }
         let times: Vec<f64> = (1..=19).map(|k| 0.05 * k as f64).collect();
-        let frames = harmonic_formant(&x, FS, spec.target_hz(0), &times);
+        let frames = formant_ridge(&x, rate, spec.target_hz(0), &times);
         assert_eq!(frames.len(), times.len());
         frames.iter().map(|f| f.harmonic).collect::<Vec<usize>>()
     };
-    let sweeps =
-        |h: &[usize]| h.windows(2).all(|w| w[1] <= w[0] + 1) && 3 * h[h.len() - 1] <= 2 * h[0];
+    let sweeps = |h: &[usize]| {
+        let downs = h.windows(2).filter(|w| w[1] < w[0]).count();
+        3 * h[h.len() - 1] <= 2 * h[0] && downs >= 5
+    };
     let with = track(5.0);
     let without = track(0.0);
-    eprintln!("formant harmonic every 50 ms: jivari {with:?}, no thread {without:?}");
+    eprintln!("formant ridge every 50 ms: jivari {with:?}, no thread {without:?}");
     assert!(sweeps(&with), "no sweep with the jivari: {with:?}");
     assert!(!sweeps(&without), "a sweep without the thread: {without:?}");
 }
