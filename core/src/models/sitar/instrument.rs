@@ -7,7 +7,8 @@ use crate::models::network::{BridgeInstrument, StringNetwork};
 use crate::models::string::params::Stiffness;
 use crate::models::string::{TrianglePluck, ValetteLosses};
 use crate::models::tanpura::instrument::pan_gains;
-use crate::models::tanpura::tune::tune_by_ear;
+use crate::models::tanpura::tune::{tune_by_ear, tune_string_by_ear};
+use crate::models::tanpura::SaMap;
 
 /// Amplitude of the pluck that tunes a taraf string by ear, m.
 const TARAF_TUNING_PLUCK: f64 = 3e-4;
@@ -36,6 +37,9 @@ pub struct Sitar {
     pluck: TrianglePluck,
     /// The played string's bending stiffness (N·m²), kept when the phrase retunes it.
     stiffness: f64,
+    /// The played string's tension corrections at the phrase's notes, tuned by ear (one
+    /// string; semitones from its open note).
+    frets: SaMap,
     /// Steps taken.
     step: u64,
 }
@@ -80,6 +84,11 @@ impl Sitar {
             }
         };
         let phrase = phrase_steps(&spec.phrase, spec.note, network.h());
+        let frets = if spec.tune_by_ear {
+            fret_map(spec, &scales, &plucks[0])?
+        } else {
+            SaMap::none(1)
+        };
         let pan = (0..n)
             .map(|i| {
                 if i == 0 || n == 1 {
@@ -101,6 +110,7 @@ impl Sitar {
             sounding: None,
             pluck: plucks[0],
             stiffness,
+            frets,
             step: 0,
         })
     }
@@ -141,14 +151,16 @@ impl Sitar {
         self.step += 1;
     }
 
-    /// Sets the played string to `ratio` times its open pitch by its tension (`T ∝ ratio²`).
+    /// Sets the played string to `ratio` times its open pitch by its tension (`T ∝ ratio²`,
+    /// corrected as tuned by ear at the phrase's notes and interpolated between them).
     fn set_pitch(&mut self, ratio: f64) {
+        let c = self.frets.correction(0, 12.0 * ratio.log2());
         // Finite and positive by the phrase's validation: cannot refuse.
         let ok = self
             .network
             .string_mut(0)
             .retune(
-                self.tensions[0] * ratio * ratio,
+                self.tensions[0] * ratio * ratio * c,
                 Stiffness::BendingStiffness(self.stiffness),
                 Some(&ValetteLosses::default()),
                 1.0,
@@ -176,4 +188,37 @@ impl BridgeInstrument for Sitar {
     fn gains(&self) -> &[[f64; 2]] {
         &self.pan
     }
+}
+
+/// The played string tuned by ear at every note of `spec`'s phrase (the frets' notes and the
+/// meends' targets) other than its open note, as corrections of `T ∝ f²` (`scales`: the open
+/// tuning of every string). A player sets each fret's pitch by ear too: what the jawari and
+/// the bridge add to the pitch changes with the string's tension (3 to 4 cents over four to
+/// five semitones at 192 kHz). Control thread; one tuning of the played string per note.
+fn fret_map(spec: &SitarSpec, scales: &[f64], pluck: &TrianglePluck) -> Result<SaMap, ParamError> {
+    let mut notes: Vec<f64> = spec
+        .phrase
+        .iter()
+        .flat_map(|s| std::iter::once(s.note).chain(s.meend_to))
+        .chain([spec.note])
+        .collect();
+    notes.sort_by(f64::total_cmp);
+    notes.dedup();
+    let mut corrections = Vec::with_capacity(notes.len());
+    for &f in &notes {
+        if f == spec.note {
+            corrections.push(1.0);
+            continue;
+        }
+        let ratio2 = (f / spec.note).powi(2);
+        let mut start = scales.to_vec();
+        start[0] *= ratio2;
+        let tuned = tune_string_by_ear(|s| spec.network(s), &start, 0, f, pluck)?;
+        corrections.push(tuned / (scales[0] * ratio2));
+    }
+    let semitones = notes
+        .iter()
+        .map(|f| 12.0 * (f / spec.note).log2())
+        .collect();
+    Ok(SaMap::from_parts(semitones, corrections, 1))
 }

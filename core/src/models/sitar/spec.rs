@@ -12,8 +12,7 @@ use crate::models::string::{
     Losses, Obstacle, SeatSpec, Stiffness, StringConfig, StringParams, ValetteLosses,
 };
 use crate::models::tanpura::spec::{
-    curved_top, default_pluck_amplitude, default_sim_rate, default_true, JAWARI_CONTACT,
-    SEAT_STIFFNESS,
+    curved_top, default_pluck_amplitude, default_true, JAWARI_CONTACT, SEAT_STIFFNESS,
 };
 use crate::models::tanpura::Metal;
 use serde::{Deserialize, Serialize};
@@ -83,7 +82,8 @@ pub struct SitarSpec {
     /// Modes of each taraf string (8 to 2000).
     #[serde(default = "default_taraf_modes")]
     pub taraf_modes: usize,
-    /// Simulation rate, Hz (16 000 to 1 000 000).
+    /// Simulation rate, Hz (16 000 to 1 000 000; default 192 000, where the played string's
+    /// modes stay under the Nyquist frequency).
     #[serde(default = "default_sim_rate")]
     pub sim_rate: f64,
     /// Pluck position as a fraction of the played string's length from the bridge (0.02 to
@@ -114,6 +114,13 @@ fn default_taraf_modes() -> usize {
 }
 fn default_pluck_position() -> f64 {
     0.12
+}
+/// The default simulation rate (Hz): the played string's 300 modes reach 104 kHz at Ga, under
+/// the Nyquist frequency of 192 kHz. Where a string's modes lie far above the Nyquist
+/// frequency its sampled couplings (seat, jawari, bridge) alias and the sympathetic exchange
+/// collapses erratically (docs/models.md, "Strings on a moving bridge").
+fn default_sim_rate() -> f64 {
+    192_000.0
 }
 
 impl SitarSpec {

@@ -75,6 +75,18 @@ impl SaMap {
         })
     }
 
+    /// A map of `strings` strings from its anchors (semitones, increasing, 0 among them) and
+    /// the corrections at them (`anchor · strings + string`). Control thread.
+    pub(crate) fn from_parts(semitones: Vec<f64>, corrections: Vec<f64>, strings: usize) -> Self {
+        debug_assert_eq!(semitones.len() * strings, corrections.len());
+        debug_assert!(semitones.windows(2).all(|w| w[0] < w[1]));
+        Self {
+            semitones,
+            corrections,
+            strings,
+        }
+    }
+
     /// String `string`'s tension correction at `semitones` from Sa: linear between the
     /// anchors, along the outer segment beyond them (1 with a single anchor). O(anchors), no
     /// allocation.

@@ -88,3 +88,25 @@ pub fn tune_by_ear(
     }
     Ok(scale)
 }
+
+/// Tunes string `string` alone of the network `build(scale)` builds to `target` Hz by ear,
+/// starting from `scale` (the other strings kept at theirs), plucked by `pluck`; returns the
+/// string's scale ([`TUNE_PASSES`] passes, module doc). A sitar's fret or a meend's target:
+/// the same string at another note.
+pub fn tune_string_by_ear(
+    build: impl Fn(&[f64]) -> Result<NetworkConfig, ParamError>,
+    scale: &[f64],
+    string: usize,
+    target: f64,
+    pluck: &TrianglePluck,
+) -> Result<f64, ParamError> {
+    let mut scale = scale.to_vec();
+    for _ in 0..TUNE_PASSES {
+        let mut net = StringNetwork::new(&build(&scale)?)?;
+        net.pluck(string, pluck)?;
+        if let Some(f) = first_partial_hz(&mut net, string, LISTEN_FROM, LISTEN_TO) {
+            scale[string] *= (target / f).powi(2);
+        }
+    }
+    Ok(scale[string])
+}
