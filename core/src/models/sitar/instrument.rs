@@ -35,8 +35,6 @@ pub struct Sitar {
     sounding: Option<StrokeSteps>,
     /// The played string's pluck at full strength.
     pluck: TrianglePluck,
-    /// The played string's bending stiffness (N·m²), kept when the phrase retunes it.
-    stiffness: f64,
     /// The played string's tension corrections at the phrase's notes, tuned by ear (one
     /// string; semitones from its open note).
     frets: SaMap,
@@ -76,13 +74,6 @@ impl Sitar {
         if spec.phrase.is_empty() {
             network.pluck(0, &plucks[0])?;
         }
-        let stiffness = match network.strings()[0].params().stiffness {
-            Stiffness::BendingStiffness(ei) => ei,
-            Stiffness::Inharmonicity(b) => {
-                let p = network.strings()[0].params();
-                b * p.tension * p.length * p.length / std::f64::consts::PI.powi(2)
-            }
-        };
         let phrase = phrase_steps(&spec.phrase, spec.note, network.h());
         let frets = if spec.tune_by_ear {
             fret_map(spec, &scales, &plucks[0])?
@@ -109,7 +100,6 @@ impl Sitar {
             next: 0,
             sounding: None,
             pluck: plucks[0],
-            stiffness,
             frets,
             step: 0,
         })
@@ -155,13 +145,15 @@ impl Sitar {
     /// corrected as tuned by ear at the phrase's notes and interpolated between them).
     fn set_pitch(&mut self, ratio: f64) {
         let c = self.frets.correction(0, 12.0 * ratio.log2());
+        // Kept through the retune (the string is built, and retuned, with it).
+        let ei = self.network.strings()[0].params().bending_stiffness();
         // Finite and positive by the phrase's validation: cannot refuse.
         let ok = self
             .network
             .string_mut(0)
             .retune(
                 self.tensions[0] * ratio * ratio * c,
-                Stiffness::BendingStiffness(self.stiffness),
+                Stiffness::BendingStiffness(ei),
                 Some(&ValetteLosses::default()),
                 1.0,
                 0.0,

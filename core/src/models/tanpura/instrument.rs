@@ -35,8 +35,6 @@ pub struct Tanpura {
     tensions: Vec<f64>,
     /// Per string, the tension corrections of the keys tuned by ear ([`SaMap`]).
     sa_map: SaMap,
-    /// Per string, the bending stiffness (N·m²), kept through a retune.
-    stiffness: Vec<f64>,
     /// The pitch ratio the strings are at (1: the tuning the drone was built with).
     ratio: f64,
     /// Strength of every pluck (1: the spec's amplitude).
@@ -83,17 +81,6 @@ impl Tanpura {
         let tensions = (0..n)
             .map(|i| spec.nominal_tension(i) * scales[i])
             .collect();
-        let stiffness = network
-            .strings()
-            .iter()
-            .map(|s| match s.params().stiffness {
-                Stiffness::BendingStiffness(ei) => ei,
-                Stiffness::Inharmonicity(b) => {
-                    let p = s.params();
-                    b * p.tension * p.length * p.length / (std::f64::consts::PI.powi(2))
-                }
-            })
-            .collect();
         Ok(Self {
             network,
             cycle,
@@ -104,7 +91,6 @@ impl Tanpura {
             pan,
             tensions,
             sa_map,
-            stiffness,
             ratio: 1.0,
             strength: 1.0,
             plucking: true,
@@ -140,8 +126,10 @@ impl Tanpura {
         }
         let losses = ValetteLosses::default();
         let semitones = 12.0 * ratio.log2();
-        for (i, (&t, &ei)) in self.tensions.iter().zip(&self.stiffness).enumerate() {
+        for (i, &t) in self.tensions.iter().enumerate() {
             let c = self.sa_map.correction(i, semitones);
+            // Kept through the retune (the strings are built, and retuned, with it).
+            let ei = self.network.strings()[i].params().bending_stiffness();
             self.network
                 .string_mut(i)
                 .retune(
