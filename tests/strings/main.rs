@@ -6,6 +6,7 @@
 #[global_allocator]
 static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 
+mod crossings;
 mod network;
 mod sitar;
 mod string_alloc;

@@ -78,23 +78,9 @@ fn thaats_give_the_taraf_tuning() {
 }
 
 /// The played string's first partial (Hz) over steps `[from, to)` of the sitar (steps it
-/// there): upward zero crossings of its first modal coordinate, linearly interpolated.
+/// there).
 fn played_pitch(sitar: &mut Sitar, fs: f64, from: u64, to: u64) -> f64 {
-    let mut prev = sitar.network().strings()[0].modal_displacement()[0];
-    let (mut first, mut last, mut count) = (None, 0.0, 0u64);
-    while sitar.steps() < to {
-        sitar.step();
-        let q = sitar.network().strings()[0].modal_displacement()[0];
-        let n = sitar.steps();
-        if n > from && prev < 0.0 && q >= 0.0 {
-            let at = n as f64 - 1.0 + prev / (prev - q);
-            first.get_or_insert(at);
-            last = at;
-            count += 1;
-        }
-        prev = q;
-    }
-    (count - 1) as f64 * fs / (last - first.expect("crossings"))
+    super::crossings::first_partial(sitar, Sitar::steps, 0, fs, from, to)
 }
 
 /// A phrase on the played string (tuned to Sa = 277.18 Hz, the Bilawal taraf answering; at

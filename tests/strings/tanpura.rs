@@ -8,24 +8,9 @@ use noether::models::tanpura::{Pattern, Tanpura, TanpuraSpec, Tuning};
 const FS: f64 = 48_000.0;
 
 /// The frequency of string `s`'s first modal coordinate over steps `[from, to)` of the drone
-/// (steps it there): upward zero crossings, linearly interpolated (written here, apart from the
-/// tuner's own measurement, and read in the drone with every string sounding).
+/// (steps it there), read in the drone with every string sounding.
 fn first_partial(t: &mut Tanpura, s: usize, from: u64, to: u64) -> f64 {
-    let mut prev = t.network().strings()[s].modal_displacement()[0];
-    let (mut first, mut last, mut count) = (None, 0.0, 0u64);
-    while t.steps() < to {
-        t.step();
-        let q = t.network().strings()[s].modal_displacement()[0];
-        let n = t.steps();
-        if n > from && prev < 0.0 && q >= 0.0 {
-            let at = n as f64 - 1.0 + prev / (prev - q);
-            first.get_or_insert(at);
-            last = at;
-            count += 1;
-        }
-        prev = q;
-    }
-    (count - 1) as f64 * FS / (last - first.expect("crossings"))
+    super::crossings::first_partial(t, Tanpura::steps, s, FS, from, to)
 }
 
 /// Every string of the four standard tunings (on Sa = C#3) sounds its note within 1 cent,
@@ -137,17 +122,12 @@ fn the_cycle_plucks_on_the_pattern() {
     }
 }
 
-/// A 40 s drone (ten cycles of 4 s) keeps its level: the largest energy in each of the last
-/// five cycles is within 10 % of the second cycle's (the first has no ringing strings yet), and
-/// the power balance closes to 1e-11 of the largest energy (measured in docs/models.md).
-#[test]
-fn a_long_drone_keeps_its_level_and_its_balance() {
-    let spec = TanpuraSpec::at(138.59);
-    let mut t = Tanpura::build(&spec).unwrap();
-    let cycle = (spec.cycle_seconds * FS) as u64;
+/// Plays `cycles` cycles of `cycle` steps of the drone: the largest energy (J) of each cycle,
+/// and the largest drift of the power balance over the largest energy.
+fn cycle_peaks(t: &mut Tanpura, cycle: u64, cycles: u64) -> (Vec<f64>, f64) {
     let b0 = t.network().energy_terms().balance();
     let (mut peaks, mut peak, mut worst, mut e_max) = (Vec::new(), 0.0f64, 0.0f64, 0.0f64);
-    while t.steps() < 10 * cycle {
+    while t.steps() < cycles * cycle {
         t.step();
         let e = t.network().energy_terms();
         peak = peak.max(e.total());
@@ -158,13 +138,25 @@ fn a_long_drone_keeps_its_level_and_its_balance() {
             peak = 0.0;
         }
     }
+    (peaks, worst / e_max)
+}
+
+/// A 40 s drone (ten cycles of 4 s) keeps its level: the largest energy in each of the last
+/// five cycles is within 10 % of the second cycle's (the first has no ringing strings yet), and
+/// the power balance closes to 1e-11 of the largest energy (measured in docs/models.md).
+#[test]
+fn a_long_drone_keeps_its_level_and_its_balance() {
+    let spec = TanpuraSpec::at(138.59);
+    let mut t = Tanpura::build(&spec).unwrap();
+    let cycle = (spec.cycle_seconds * spec.sim_rate) as u64;
+    let (peaks, balance) = cycle_peaks(&mut t, cycle, 10);
     let rel: Vec<f64> = peaks.iter().map(|p| p / peaks[1]).collect();
     eprintln!(
         "cycle peaks / second cycle's: {rel:.4?}; balance {:.2e}",
-        worst / e_max
+        balance
     );
     assert!(rel[5..].iter().all(|r| (r - 1.0).abs() < 0.1), "{rel:?}");
-    assert!(worst / e_max < 1e-11, "balance {:.2e}", worst / e_max);
+    assert!(balance < 1e-11, "balance {:.2e}", balance);
 }
 
 /// Bad specs are refused with the field named.
@@ -225,11 +217,11 @@ fn the_jivari_keeps_the_upper_partials_sounding() {
 /// The long-performance test: a 10-minute drone (150 cycles of 4 s) neither grows nor fades.
 /// The strings here are coarser than the factory drone's (120 modes at 32 kHz, the jivari at
 /// 15 mm, the second node beyond the seat: the same network, scheme and cycle at about a third
-/// of the per-step work), so ten minutes take under two minutes of CPU. The mean of the largest energies
-/// of the last ten cycles is within 0.5 % of that of cycles 5 to 14 (the ringing has built up
-/// by the fifth): a drift of 1e-4 per cycle would move it by 1.4 %. Single cycles differ from
-/// that mean by up to 3 % (2.6 % measured) as the strings' phases meet differently. The power balance closes
-/// to 1e-9 of the largest energy (the accounts' round-off summed over 19 million steps).
+/// of the per-step work), so ten minutes take under two minutes of CPU. The mean of the
+/// largest energies of the last ten cycles is within 0.5 % of that of cycles 5 to 14 (the
+/// ringing has built up by the fifth): a drift of 1e-4 per cycle would move it by 1.4 %.
+/// Single cycles differ from that mean by up to 3 % (2.6 % measured) as the strings' phases
+/// meet differently. The power balance closes to 1e-9 of the largest energy (the accounts' round-off summed over 19 million steps).
 #[test]
 fn a_ten_minute_drone_neither_grows_nor_fades() {
     let mut spec = TanpuraSpec::at(138.59);
@@ -238,19 +230,7 @@ fn a_ten_minute_drone_neither_grows_nor_fades() {
     spec.jivari_mm = vec![15.0];
     let mut t = Tanpura::build(&spec).unwrap();
     let cycle = (spec.cycle_seconds * spec.sim_rate) as u64;
-    let b0 = t.network().energy_terms().balance();
-    let (mut peaks, mut peak, mut worst, mut e_max) = (Vec::new(), 0.0f64, 0.0f64, 0.0f64);
-    while t.steps() < 150 * cycle {
-        t.step();
-        let e = t.network().energy_terms();
-        peak = peak.max(e.total());
-        e_max = e_max.max(e.total());
-        worst = worst.max((e.balance() - b0).abs());
-        if t.steps() % cycle == 0 {
-            peaks.push(peak);
-            peak = 0.0;
-        }
-    }
+    let (peaks, balance) = cycle_peaks(&mut t, cycle, 150);
     let mean = |c: &[f64]| c.iter().sum::<f64>() / c.len() as f64;
     let early = mean(&peaks[4..14]);
     let last = mean(&peaks[140..]) / early - 1.0;
@@ -260,10 +240,10 @@ fn a_ten_minute_drone_neither_grows_nor_fades() {
     eprintln!(
         "10 min drone: last ten cycles {last:+.2e} of cycles 5-14 (single cycles within \
          {far:.2e}); balance {:.2e}",
-        worst / e_max
+        balance
     );
     assert!(last.abs() < 5e-3, "the drone moved by {last:+.3e}");
-    assert!(worst / e_max < 1e-9, "balance {:.2e}", worst / e_max);
+    assert!(balance < 1e-9, "balance {:.2e}", balance);
 }
 
 /// Sa moved by the held key: the drone tuned by ear on C#3 and at four anchor keys (an octave
