@@ -148,6 +148,10 @@ impl RunLayout {
 
     /// `Σ_{i,j} H^l_{ij} a_i b_j` for row `l`.
     pub(crate) fn contract_row(&self, l: usize, a: &[f64], b: &[f64]) -> f64 {
+        assert!(
+            a.len().min(b.len()) >= self.n_phi,
+            "gather_dot's unchecked reads"
+        );
         let (r0, r1, mut e0) = self.row(l);
         let mut acc = 0.0;
         for r in r0..r1 {
@@ -172,6 +176,11 @@ impl RunLayout {
         stride: usize,
         off: usize,
     ) {
+        assert!(x.len() >= self.n_phi, "gather_dot's unchecked reads");
+        assert!(
+            out.len() > (self.n_phi - 1) * stride + off,
+            "scatter's unchecked writes"
+        );
         let (r0, r1, mut e0) = self.row(l);
         for r in r0..r1 {
             let (i, e1) = (self.run_i[r] as usize, self.run_end[r] as usize);
@@ -193,6 +202,7 @@ impl RunLayout {
         grad: &mut [f64],
         runs: &mut [f64],
     ) {
+        assert!(q.len() >= self.n_phi, "gather_dot's unchecked reads");
         grad[..self.n_phi].fill(0.0);
         for (l, (el, &wl)) in eta.iter_mut().zip(w).enumerate() {
             let (r0, r1, e_start) = self.row(l);
