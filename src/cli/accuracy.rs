@@ -1,5 +1,6 @@
 //! `noether accuracy SCENE --vary rate|modes|psi|scheme --values a,b,c [--reference-set P=V]`:
-//! render a scene under several settings and against a reference, write a CSV and JSON table
+//! render a scene (a plate, a string, a tanpura drone or a sitar) under several settings and
+//! against a reference, write a CSV and JSON table
 //! and a PNG of the error against wall time. `noether accuracy --preset STEM ...` does the same
 //! for a factory preset played through the engine ([`noether::render::preset_accuracy`]). The metrics are those of
 //! [`noether::render::accuracy`] (stated in docs/ACCURACY.md).
@@ -18,7 +19,8 @@ use std::path::{Path, PathBuf};
 pub enum Vary {
     /// The simulation rate (Hz). Default reference: twice the largest value.
     Rate,
-    /// Transverse modes N_Φ (plate) or string modes. Default reference: twice the largest value.
+    /// Transverse modes N_Φ (plate), string modes, or modes per string (tanpura; the sitar's
+    /// played string). Default reference: twice the largest value.
     Modes,
     /// In-plane modes N_Ψ (plate only). Default reference: twice the largest value.
     Psi,
@@ -38,21 +40,26 @@ impl Vary {
         }
     }
 
-    /// The scene field the setting writes, for a plate or a string scene.
-    fn field(self, plate: bool) -> Result<&'static str, ParamError> {
-        Ok(match (self, plate) {
-            (Vary::Rate, true) => "plate.sim_rate",
-            (Vary::Rate, false) => "string.sim_rate",
-            (Vary::Modes, true) => "plate.n_phi",
-            (Vary::Modes, false) => "string.modes",
-            (Vary::Psi, true) => "plate.n_psi",
-            (Vary::Scheme, true) => "plate.scheme",
-            (Vary::Scheme, false) => "string.contact_scheme",
-            (Vary::Psi, false) => {
+    /// The scene field the setting writes for a scene of `model`.
+    fn field(self, model: SceneModel) -> Result<&'static str, ParamError> {
+        use SceneModel as M;
+        Ok(match (self, model) {
+            (Vary::Rate, M::Plate) => "plate.sim_rate",
+            (Vary::Rate, M::String) => "string.sim_rate",
+            (Vary::Rate, M::Tanpura) => "tanpura.sim_rate",
+            (Vary::Rate, M::Sitar) => "sitar.sim_rate",
+            (Vary::Modes, M::Plate) => "plate.n_phi",
+            (Vary::Modes, M::String) => "string.modes",
+            (Vary::Modes, M::Tanpura) => "tanpura.modes",
+            (Vary::Modes, M::Sitar) => "sitar.modes",
+            (Vary::Psi, M::Plate) => "plate.n_psi",
+            (Vary::Scheme, M::Plate) => "plate.scheme",
+            (Vary::Scheme, M::String) => "string.contact_scheme",
+            (Vary::Psi, M::String) | (Vary::Psi | Vary::Scheme, M::Tanpura | M::Sitar) => {
                 return Err(ParamError::new(
                     "--vary",
                     format!("`{}`", self.name()),
-                    "rate, modes, scheme for a string scene",
+                    model.studies(),
                 ))
             }
         })
@@ -60,6 +67,54 @@ impl Vary {
 
     fn numeric(self) -> bool {
         self != Vary::Scheme
+    }
+}
+
+/// The model a scene file holds: which fields a study of it writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum SceneModel {
+    /// `[plate]`.
+    Plate,
+    /// `[string]`.
+    String,
+    /// `[tanpura]`: the drone's strings on their bridge.
+    Tanpura,
+    /// `[sitar]`: the played string and the taraf (`--vary modes` sets the played string's).
+    Sitar,
+}
+
+impl SceneModel {
+    /// The model of `scene` (a scene holds exactly one, checked when it loads).
+    fn of(scene: &Scene) -> Self {
+        if scene.plate.is_some() {
+            Self::Plate
+        } else if scene.tanpura.is_some() {
+            Self::Tanpura
+        } else if scene.sitar.is_some() {
+            Self::Sitar
+        } else {
+            Self::String
+        }
+    }
+
+    /// The settings a study of this model can vary, for error messages.
+    fn studies(self) -> &'static str {
+        match self {
+            Self::Plate => "rate, modes, psi, scheme for a plate scene",
+            Self::String => "rate, modes, scheme for a string scene",
+            Self::Tanpura | Self::Sitar => "rate, modes for a tanpura or sitar scene",
+        }
+    }
+
+    /// The scene's simulation rate (Hz).
+    fn sim_rate(self, scene: &Scene) -> f64 {
+        let rate = match self {
+            Self::Plate => scene.plate.as_ref().map(|p| p.sim_rate),
+            Self::String => scene.string.as_ref().map(|s| s.sim_rate),
+            Self::Tanpura => scene.tanpura.as_ref().map(|t| t.sim_rate),
+            Self::Sitar => scene.sitar.as_ref().map(|s| s.sim_rate),
+        };
+        rate.unwrap_or(0.0)
     }
 }
 
@@ -121,14 +176,10 @@ fn default_reference(
     base: &Scene,
     field: &str,
 ) -> Result<Vec<String>, ParamError> {
-    let plate = base.plate.is_some();
-    let rate_field = Vary::Rate.field(plate)?;
-    let base_rate = base
-        .plate
-        .as_ref()
-        .map(|p| p.sim_rate)
-        .or(base.string.as_ref().map(|s| s.sim_rate))
-        .unwrap_or(0.0);
+    let model = SceneModel::of(base);
+    let plate = model == SceneModel::Plate;
+    let rate_field = Vary::Rate.field(model)?;
+    let base_rate = model.sim_rate(base);
     let top = || {
         a.values
             .iter()
@@ -252,7 +303,7 @@ fn parse_value(vary: Vary, v: &str) -> Result<Option<f64>, ParamError> {
 /// The study of a scene file.
 fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, Error> {
     let base = load_with(a, &[])?;
-    let field = a.vary.field(base.plate.is_some())?;
+    let field = a.vary.field(SceneModel::of(&base))?;
     if a.values.is_empty() {
         return Err(ParamError::new("--values", "empty", "one or more settings").into());
     }
@@ -443,4 +494,83 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
         (560, 420),
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene file of the repository, loaded with `set`.
+    fn scene(name: &str, set: &[String]) -> Scene {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("assets/scenes")
+            .join(name);
+        Scene::load(&path, set).unwrap()
+    }
+
+    #[test]
+    fn every_scene_model_maps_its_settings_or_names_the_setting_it_lacks() {
+        let drone = scene("tanpura-drone.toml", &[]);
+        let sitar = scene("sitar-taraf.toml", &[]);
+        assert_eq!(SceneModel::of(&drone), SceneModel::Tanpura);
+        assert_eq!(SceneModel::of(&sitar), SceneModel::Sitar);
+        assert_eq!(
+            Vary::Rate.field(SceneModel::Tanpura).unwrap(),
+            "tanpura.sim_rate"
+        );
+        assert_eq!(Vary::Modes.field(SceneModel::Sitar).unwrap(), "sitar.modes");
+        assert_eq!(SceneModel::Sitar.sim_rate(&sitar), 192_000.0);
+        let e = Vary::Psi.field(SceneModel::Tanpura).unwrap_err();
+        assert_eq!(e.field, "--vary");
+        assert!(e.to_string().contains("tanpura"), "{e}");
+    }
+
+    /// A drone studied over its rate: each row renders at its own rate and the reference at
+    /// the one asked for, every power balance closes to 1e-10 (round-off; coarse strings and
+    /// 0.3 s, so the test is quick) and each row has a finite, non-zero band distance.
+    #[test]
+    fn a_drone_is_studied_over_its_rate() {
+        let a = AccuracyArgs {
+            scene: Some(
+                PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tanpura-drone.toml"),
+            ),
+            preset: None,
+            seconds: 0.3,
+            vary: Vary::Rate,
+            values: vec!["16000".into(), "24000".into()],
+            reference_rate: Some(48_000.0),
+            reference_set: vec![],
+            set: vec![
+                "output.seconds=0.3".into(),
+                "tanpura.modes=64".into(),
+                "tanpura.jivari_mm=[30.0]".into(),
+                "tanpura.tune_by_ear=false".into(),
+            ],
+            out: PathBuf::from("unused"),
+            per_band: false,
+        };
+        let study = scene_run(&a).unwrap();
+        let rates: Vec<f64> = study.rows.iter().map(|r| r.sim_rate).collect();
+        assert_eq!(rates, [16_000.0, 24_000.0]);
+        assert!(
+            study.reference.contains("tanpura.sim_rate=48000"),
+            "{}",
+            study.reference
+        );
+        for r in &study.rows {
+            assert!(
+                r.energy_balance_error < 1e-10,
+                "{}: {:e}",
+                r.setting,
+                r.energy_balance_error
+            );
+            assert!(
+                r.band_db.is_finite() && r.band_db > 0.0,
+                "{}: {}",
+                r.setting,
+                r.band_db
+            );
+        }
+        assert!(study.reference_energy_balance_error < 1e-10);
+    }
 }
