@@ -99,6 +99,9 @@ pub fn run(a: RenderArgs) -> Result<(), Error> {
             c.newton_histogram
         );
     }
+    for w in &report.warnings {
+        eprintln!("  warning: {w}");
+    }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.out.plot {
         // The output holds only modal frequencies: show the model's band (a log axis up to

@@ -58,6 +58,10 @@ pub struct RenderReport {
     pub contact: Option<ContactSummary>,
     /// Model-specific figures.
     pub details: serde_json::Map<String, serde_json::Value>,
+    /// What the model leaves wrong that a user should know, in words (for example a string
+    /// network whose modes lie above the Nyquist frequency); `noether render` prints them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// What `quality = "auto"` chose and how it was verified (auto scenes only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub auto: Option<super::auto::AutoReport>,

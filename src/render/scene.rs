@@ -3,7 +3,7 @@
 
 use super::offline::{render_with_shapes, Rendered};
 use super::report::{spectral_centroid, RenderReport};
-use super::source::RenderSource;
+use super::source::{ModelDetails, RenderSource};
 use super::step_join::SpinJoin;
 use crate::analysis::dispersion::max_cents_error;
 use crate::error::{Error, ParamError};
@@ -170,7 +170,12 @@ pub fn render_scene_on(
     )?;
     let source = built.source.as_ref();
     let s = &rendered.stats;
-    let mut details = match serde_json::to_value(source.details()) {
+    let model_details = source.details();
+    let warnings: Vec<String> = match &model_details {
+        ModelDetails::Network(n) => n.aliasing_warning(source.sim_rate()).into_iter().collect(),
+        _ => Vec::new(),
+    };
+    let mut details = match serde_json::to_value(model_details) {
         Ok(serde_json::Value::Object(m)) => m,
         _ => serde_json::Map::new(),
     };
@@ -212,6 +217,7 @@ pub fn render_scene_on(
         ),
         contact: source.contact(),
         details,
+        warnings,
         auto: None,
     };
     Ok((rendered, report))

@@ -8,6 +8,7 @@ static A: noether_testkit::alloc::Guard = noether_testkit::alloc::Guard;
 mod auto;
 mod cli_modes;
 mod cli_output;
+mod network_report;
 mod opera_gongs;
 mod play;
 mod preset_accuracy;

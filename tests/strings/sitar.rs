@@ -145,7 +145,8 @@ fn bad_phrases_name_the_stroke() {
 
 /// The sympathetic exchange converges where the played string's modes stay under the Nyquist
 /// frequency: Ga's taraf string takes the same energy in 1 s from the played Ga at 64 modes
-/// and 48 kHz (its top mode at 22 kHz) as at the default 300 modes and 192 kHz (104 kHz),
+/// and 48 kHz (its top mode at 22 kHz) as at the default 300 modes and 192 kHz (123 kHz
+/// through its stiffness, the top 55 modes above the Nyquist frequency),
 /// within 10 % (measured 0.4 %; the two grids resolve the jawari differently, so they are not
 /// the same model to round-off). At 300 modes and 48 kHz, where the played string's modes
 /// alias, it takes 1e-4 times that (docs/models.md): that configuration fails this test.

@@ -348,8 +348,8 @@ fn the_drone_plays_and_retunes_without_allocating() {
 }
 
 /// The jawari's sweep: string 1 of the drone (Pa, 103.9 Hz, 480 modes) plucked alone, at
-/// 192 kHz, where its modes (to 50 kHz) stay under the Nyquist frequency (at 48 kHz they alias:
-/// docs/models.md, "Strings on a moving bridge"). The band of harmonics louder than the
+/// 192 kHz, where only its top 85 modes (to 137 kHz through its stiffness) lie above the
+/// Nyquist frequency (at 48 kHz 310 do: docs/models.md, "The drone's grid and rate"). The band of harmonics louder than the
 /// spectrum's trend is followed as a ridge ([`noether::analysis::formant::formant_ridge`])
 /// every 50 ms from 0.05 to 0.95 s. With the jivari at 5 mm it moves down: it ends at most two
 /// thirds of where it began and steps down in at least five of the eighteen intervals (a

@@ -129,6 +129,57 @@ pub struct StringDetails {
     pub newton_histogram: Vec<u64>,
 }
 
+/// One string of a network, for reports: its grid and where its modes lie against the
+/// simulation's Nyquist frequency.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NetworkStringDetails {
+    /// Modes simulated.
+    pub modes: usize,
+    /// Frequency of its highest mode at its present tension (Hz).
+    pub top_mode_hz: f64,
+    /// Modes above the Nyquist frequency of the simulation: the exact scheme steps them, but
+    /// the seat, jawari and bridge forces they answer are sampled, so their share of those
+    /// couplings aliases (docs/models.md, "The drone's grid and rate").
+    pub modes_above_nyquist: usize,
+}
+
+/// A network of strings on a bridge (the tanpura, the sitar), for reports.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NetworkDetails {
+    /// The strings, in the network's order.
+    pub strings: Vec<NetworkStringDetails>,
+}
+
+impl NetworkDetails {
+    /// A warning naming the strings whose modes reach above the Nyquist frequency of
+    /// `sim_rate` Hz, or `None` when none does.
+    pub fn aliasing_warning(&self, sim_rate: f64) -> Option<String> {
+        let aliased: Vec<String> = self
+            .strings
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.modes_above_nyquist > 0)
+            .map(|(i, s)| {
+                format!(
+                    "string {i} ({} of {} modes, to {:.1} kHz)",
+                    s.modes_above_nyquist,
+                    s.modes,
+                    s.top_mode_hz / 1e3
+                )
+            })
+            .collect();
+        (!aliased.is_empty()).then(|| {
+            format!(
+                "modes above the {:.1} kHz Nyquist frequency of the simulation: {}; their seat, \
+                 jawari and bridge forces alias (fewer modes or a higher sim_rate, see \
+                 docs/models.md, \"The drone's grid and rate\")",
+                sim_rate / 2e3,
+                aliased.join(", ")
+            )
+        })
+    }
+}
+
 /// Model-specific figures of a [`RenderSource`], typed; the offline report serialises them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(untagged)]
@@ -139,6 +190,8 @@ pub enum ModelDetails {
     Plate(PlateDetails),
     /// A string.
     String(StringDetails),
+    /// A network of strings on a bridge.
+    Network(NetworkDetails),
 }
 
 /// A model the offline renderer can run: it advances at its own simulation rate and writes

@@ -3,7 +3,32 @@
 //! with a stereo bridge-force pickup.
 
 use super::StringNetwork;
-use crate::models::source::{EnergyTerms, RenderSource};
+use crate::models::source::{
+    EnergyTerms, ModelDetails, NetworkDetails, NetworkStringDetails, RenderSource,
+};
+
+impl StringNetwork {
+    /// Each string's grid and where its modes lie against the Nyquist frequency, for reports.
+    /// Control thread (allocates).
+    pub fn details(&self) -> NetworkDetails {
+        let nyquist = 0.5 / self.h();
+        let strings = self
+            .strings()
+            .iter()
+            .map(|s| {
+                let p = s.params();
+                let hz = |j: usize| p.omega(j) / std::f64::consts::TAU;
+                let modes = p.modes();
+                NetworkStringDetails {
+                    modes,
+                    top_mode_hz: hz(modes),
+                    modes_above_nyquist: (1..=modes).filter(|&j| hz(j) > nyquist).count(),
+                }
+            })
+            .collect();
+        NetworkDetails { strings }
+    }
+}
 
 impl RenderSource for StringNetwork {
     fn sim_rate(&self) -> f64 {
@@ -29,6 +54,10 @@ impl RenderSource for StringNetwork {
 
     fn is_conservative(&self) -> bool {
         true
+    }
+
+    fn details(&self) -> ModelDetails {
+        ModelDetails::Network(StringNetwork::details(self))
     }
 }
 
@@ -69,5 +98,9 @@ impl<T: BridgeInstrument> RenderSource for T {
 
     fn is_conservative(&self) -> bool {
         true
+    }
+
+    fn details(&self) -> ModelDetails {
+        ModelDetails::Network(self.network().details())
     }
 }

@@ -115,8 +115,9 @@ fn default_taraf_modes() -> usize {
 fn default_pluck_position() -> f64 {
     0.12
 }
-/// The default simulation rate (Hz): the played string's 300 modes reach 104 kHz at Ga, under
-/// the Nyquist frequency of 192 kHz. Where a string's modes lie far above the Nyquist
+/// The default simulation rate (Hz): at Ga the played string's 300 modes reach 123 kHz through
+/// its stiffness, and only the top 55 lie above the Nyquist frequency of 192 kHz (96 kHz),
+/// where the exchange has converged (docs/models.md). Where a string's modes lie far above the Nyquist
 /// frequency its sampled couplings (seat, jawari, bridge) alias and the sympathetic exchange
 /// collapses erratically (docs/models.md, "Strings on a moving bridge").
 fn default_sim_rate() -> f64 {
