@@ -40,26 +40,30 @@ impl Vary {
         }
     }
 
-    /// The scene field the setting writes for a scene of `model`.
-    fn field(self, model: SceneModel) -> Result<&'static str, ParamError> {
-        use SceneModel as M;
+    /// The scene field the setting writes for a scene whose model table is `model`
+    /// ([`Scene::model_key`]: `plate`, `string`, `tanpura` or `sitar`).
+    fn field(self, model: &str) -> Result<&'static str, ParamError> {
         Ok(match (self, model) {
-            (Vary::Rate, M::Plate) => "plate.sim_rate",
-            (Vary::Rate, M::String) => "string.sim_rate",
-            (Vary::Rate, M::Tanpura) => "tanpura.sim_rate",
-            (Vary::Rate, M::Sitar) => "sitar.sim_rate",
-            (Vary::Modes, M::Plate) => "plate.n_phi",
-            (Vary::Modes, M::String) => "string.modes",
-            (Vary::Modes, M::Tanpura) => "tanpura.modes",
-            (Vary::Modes, M::Sitar) => "sitar.modes",
-            (Vary::Psi, M::Plate) => "plate.n_psi",
-            (Vary::Scheme, M::Plate) => "plate.scheme",
-            (Vary::Scheme, M::String) => "string.contact_scheme",
-            (Vary::Psi, M::String) | (Vary::Psi | Vary::Scheme, M::Tanpura | M::Sitar) => {
+            (Vary::Rate, "plate") => "plate.sim_rate",
+            (Vary::Rate, "string") => "string.sim_rate",
+            (Vary::Rate, "tanpura") => "tanpura.sim_rate",
+            (Vary::Rate, "sitar") => "sitar.sim_rate",
+            (Vary::Modes, "plate") => "plate.n_phi",
+            (Vary::Modes, "string") => "string.modes",
+            (Vary::Modes, "tanpura") => "tanpura.modes",
+            (Vary::Modes, "sitar") => "sitar.modes",
+            (Vary::Psi, "plate") => "plate.n_psi",
+            (Vary::Scheme, "plate") => "plate.scheme",
+            (Vary::Scheme, "string") => "string.contact_scheme",
+            _ => {
                 return Err(ParamError::new(
                     "--vary",
                     format!("`{}`", self.name()),
-                    model.studies(),
+                    match model {
+                        "plate" => "rate, modes, psi, scheme for a plate scene",
+                        "string" => "rate, modes, scheme for a string scene",
+                        _ => "rate, modes for a tanpura or sitar scene",
+                    },
                 ))
             }
         })
@@ -67,54 +71,6 @@ impl Vary {
 
     fn numeric(self) -> bool {
         self != Vary::Scheme
-    }
-}
-
-/// The model a scene file holds: which fields a study of it writes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum SceneModel {
-    /// `[plate]`.
-    Plate,
-    /// `[string]`.
-    String,
-    /// `[tanpura]`: the drone's strings on their bridge.
-    Tanpura,
-    /// `[sitar]`: the played string and the taraf (`--vary modes` sets the played string's).
-    Sitar,
-}
-
-impl SceneModel {
-    /// The model of `scene` (a scene holds exactly one, checked when it loads).
-    fn of(scene: &Scene) -> Self {
-        if scene.plate.is_some() {
-            Self::Plate
-        } else if scene.tanpura.is_some() {
-            Self::Tanpura
-        } else if scene.sitar.is_some() {
-            Self::Sitar
-        } else {
-            Self::String
-        }
-    }
-
-    /// The settings a study of this model can vary, for error messages.
-    fn studies(self) -> &'static str {
-        match self {
-            Self::Plate => "rate, modes, psi, scheme for a plate scene",
-            Self::String => "rate, modes, scheme for a string scene",
-            Self::Tanpura | Self::Sitar => "rate, modes for a tanpura or sitar scene",
-        }
-    }
-
-    /// The scene's simulation rate (Hz).
-    fn sim_rate(self, scene: &Scene) -> f64 {
-        let rate = match self {
-            Self::Plate => scene.plate.as_ref().map(|p| p.sim_rate),
-            Self::String => scene.string.as_ref().map(|s| s.sim_rate),
-            Self::Tanpura => scene.tanpura.as_ref().map(|t| t.sim_rate),
-            Self::Sitar => scene.sitar.as_ref().map(|s| s.sim_rate),
-        };
-        rate.unwrap_or(0.0)
     }
 }
 
@@ -176,10 +132,9 @@ fn default_reference(
     base: &Scene,
     field: &str,
 ) -> Result<Vec<String>, ParamError> {
-    let model = SceneModel::of(base);
-    let plate = model == SceneModel::Plate;
-    let rate_field = Vary::Rate.field(model)?;
-    let base_rate = model.sim_rate(base);
+    let plate = base.plate.is_some();
+    let rate_field = Vary::Rate.field(base.model_key())?;
+    let base_rate = base.sim_rate();
     let top = || {
         a.values
             .iter()
@@ -303,7 +258,7 @@ fn parse_value(vary: Vary, v: &str) -> Result<Option<f64>, ParamError> {
 /// The study of a scene file.
 fn scene_run(a: &AccuracyArgs) -> Result<AccuracyStudy, Error> {
     let base = load_with(a, &[])?;
-    let field = a.vary.field(SceneModel::of(&base))?;
+    let field = a.vary.field(base.model_key())?;
     if a.values.is_empty() {
         return Err(ParamError::new("--values", "empty", "one or more settings").into());
     }
@@ -500,27 +455,23 @@ fn write_figure(path: &Path, study: &AccuracyStudy) -> Result<(), Error> {
 mod tests {
     use super::*;
 
-    /// A scene file of the repository, loaded with `set`.
-    fn scene(name: &str, set: &[String]) -> Scene {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    /// The path of a scene file of the repository.
+    fn scene_path(name: &str) -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
             .join("assets/scenes")
-            .join(name);
-        Scene::load(&path, set).unwrap()
+            .join(name)
     }
 
     #[test]
     fn every_scene_model_maps_its_settings_or_names_the_setting_it_lacks() {
-        let drone = scene("tanpura-drone.toml", &[]);
-        let sitar = scene("sitar-taraf.toml", &[]);
-        assert_eq!(SceneModel::of(&drone), SceneModel::Tanpura);
-        assert_eq!(SceneModel::of(&sitar), SceneModel::Sitar);
+        let drone = Scene::load(&scene_path("tanpura-drone.toml"), &[]).unwrap();
+        let sitar = Scene::load(&scene_path("sitar-taraf.toml"), &[]).unwrap();
         assert_eq!(
-            Vary::Rate.field(SceneModel::Tanpura).unwrap(),
+            Vary::Rate.field(drone.model_key()).unwrap(),
             "tanpura.sim_rate"
         );
-        assert_eq!(Vary::Modes.field(SceneModel::Sitar).unwrap(), "sitar.modes");
-        assert_eq!(SceneModel::Sitar.sim_rate(&sitar), 192_000.0);
-        let e = Vary::Psi.field(SceneModel::Tanpura).unwrap_err();
+        assert_eq!(Vary::Modes.field(sitar.model_key()).unwrap(), "sitar.modes");
+        let e = Vary::Psi.field(drone.model_key()).unwrap_err();
         assert_eq!(e.field, "--vary");
         assert!(e.to_string().contains("tanpura"), "{e}");
     }
@@ -531,9 +482,7 @@ mod tests {
     #[test]
     fn a_drone_is_studied_over_its_rate() {
         let a = AccuracyArgs {
-            scene: Some(
-                PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/scenes/tanpura-drone.toml"),
-            ),
+            scene: Some(scene_path("tanpura-drone.toml")),
             preset: None,
             seconds: 0.3,
             vary: Vary::Rate,

@@ -172,7 +172,7 @@ pub fn render_scene_on(
     let s = &rendered.stats;
     let model_details = source.details();
     let warnings: Vec<String> = match &model_details {
-        ModelDetails::Network(n) => n.aliasing_warning(source.sim_rate()).into_iter().collect(),
+        ModelDetails::Network(n) => n.aliasing_warning().into_iter().collect(),
         _ => Vec::new(),
     };
     let mut details = match serde_json::to_value(model_details) {

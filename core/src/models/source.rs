@@ -146,14 +146,16 @@ pub struct NetworkStringDetails {
 /// A network of strings on a bridge (the tanpura, the sitar), for reports.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct NetworkDetails {
+    /// The Nyquist frequency of the simulation (Hz), which `modes_above_nyquist` counts from.
+    pub nyquist_hz: f64,
     /// The strings, in the network's order.
     pub strings: Vec<NetworkStringDetails>,
 }
 
 impl NetworkDetails {
-    /// A warning naming the strings whose modes reach above the Nyquist frequency of
-    /// `sim_rate` Hz, or `None` when none does.
-    pub fn aliasing_warning(&self, sim_rate: f64) -> Option<String> {
+    /// A warning naming the strings whose modes reach above the Nyquist frequency, or `None`
+    /// when none does.
+    pub fn aliasing_warning(&self) -> Option<String> {
         let aliased: Vec<String> = self
             .strings
             .iter()
@@ -173,7 +175,7 @@ impl NetworkDetails {
                 "modes above the {:.1} kHz Nyquist frequency of the simulation: {}; their seat, \
                  jawari and bridge forces alias (fewer modes or a higher sim_rate, see \
                  docs/models.md, \"The drone's grid and rate\")",
-                sim_rate / 2e3,
+                self.nyquist_hz / 1e3,
                 aliased.join(", ")
             )
         })

@@ -11,7 +11,7 @@ impl StringNetwork {
     /// Each string's grid and where its modes lie against the Nyquist frequency, for reports.
     /// Control thread (allocates).
     pub fn details(&self) -> NetworkDetails {
-        let nyquist = 0.5 / self.h();
+        let nyquist_hz = 0.5 / self.h();
         let strings = self
             .strings()
             .iter()
@@ -22,11 +22,14 @@ impl StringNetwork {
                 NetworkStringDetails {
                     modes,
                     top_mode_hz: hz(modes),
-                    modes_above_nyquist: (1..=modes).filter(|&j| hz(j) > nyquist).count(),
+                    modes_above_nyquist: (1..=modes).filter(|&j| hz(j) > nyquist_hz).count(),
                 }
             })
             .collect();
-        NetworkDetails { strings }
+        NetworkDetails {
+            nyquist_hz,
+            strings,
+        }
     }
 }
 
