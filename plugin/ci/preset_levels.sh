@@ -5,7 +5,8 @@
 # JSON state; every key of its [params] table: floats as f32, integers as i32, enumeration names
 # as strings, which the plugin's state repair converts and logs). The CLAP host loads it and
 # plays the root key at velocity 127, and keys 36 to 96 at velocities 127 and 40, each held 1 s
-# and released for 1 s at 48 kHz. The bounds are those of tests/engine/preset_levels.rs (the
+# (the tanpura drone: one pluck cycle, its strings plucked one after another) and released for
+# 1 s at 48 kHz. The bounds are those of tests/engine/preset_levels.rs (the
 # engine alone): every sample finite and within 0 dBFS; the root key at 127 peaks between -6
 # and -1 dBFS; every key at 127 within 6 dB of the root's peak; velocity 40 quieter than 127;
 # the last 0.1 s at least 20 dB under the note's peak.
@@ -16,23 +17,27 @@ OUT=$3
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 mkdir -p "$OUT"
 
-# One state blob per preset; prints "stem root_key" lines.
+# One state blob per preset; prints "stem root_key held_seconds" lines.
 python3 - "$ROOT/plugin/ci" "$ROOT/assets/presets" "$OUT" >"$OUT/presets.txt" <<'PY'
 import pathlib, sys
 sys.path.insert(0, sys.argv[1])
-from plugin_state import preset_blob
+from plugin_state import preset_blob, preset_params
 src, out = pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
 for path in sorted(src.glob("*.toml")):
     state, root = preset_blob(path)
     (out / f"{path.stem}.state").write_bytes(state)
-    print(path.stem, root)
+    params = preset_params(path)
+    held = float(params.get("drone_cycle", 4.0)) if params.get("model") == "tanpura-drone" else 1.0
+    print(path.stem, root, held)
 PY
 
 KEYS="36 48 60 72 84 96"
 SOFT=0.31496063 # velocity 40 of 127
 render() {
     local stem=$1 key=$2 vel=$3 tag=$4
-    timeout 300 "$HOST" render "$CLAP" "$OUT/$stem-$key-$tag.wav" --seconds 2 --note-off 1 \
+    local total
+    total=$(python3 -c "print($HELD + 1.0)")
+    timeout 300 "$HOST" render "$CLAP" "$OUT/$stem-$key-$tag.wav" --seconds "$total" --note-off "$HELD" \
         --load-state "$OUT/$stem.state" --expect-load ok --key "$key" --velocity "$vel" \
         >"$OUT/$stem-$key-$tag.out" 2>"$OUT/$stem-$key-$tag.log" || {
         echo "$stem: render of key $key at velocity $tag failed"
@@ -40,8 +45,8 @@ render() {
         exit 1
     }
 }
-while read -r stem root; do
-    echo "-- preset $stem (root key $root)"
+while read -r stem root HELD; do
+    echo "-- preset $stem (root key $root, held $HELD s)"
     render "$stem" "$root" 1.0 127
     for key in $KEYS; do
         render "$stem" "$key" 1.0 127

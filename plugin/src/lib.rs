@@ -217,6 +217,8 @@ impl Plugin for Noether {
         context: &mut impl ProcessContext<Self>,
     ) -> ProcessStatus {
         self.params.sync_to_engine(&self.shared);
+        // The host's tempo, for a drone whose cycle follows it (none: its own period).
+        self.engine.set_host_tempo(context.transport().tempo);
         self.events.clear();
         // Output events must leave in time order (CLAP requires it): each note end is sent at
         // its input event's time or the latest time already sent, whichever is later (a host

@@ -61,6 +61,10 @@ pub struct PlayArgs {
     /// (degree 0 on key 60 at 261.626 Hz unless --kbm maps the keys).
     #[arg(long, value_name = "FILE.scl")]
     pub scl: Option<PathBuf>,
+    /// The host's tempo in beats per minute (20 to 400), as a DAW's transport gives it: a
+    /// tanpura drone with `drone_sync` on plays `drone_beats` beats per cycle.
+    #[arg(long, value_name = "BPM")]
+    pub tempo: Option<f64>,
     /// A Scala keyboard mapping for --scl (reference key and frequency, unmapped keys).
     #[arg(long, value_name = "FILE.kbm", requires = "scl")]
     pub kbm: Option<PathBuf>,
@@ -104,6 +108,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         block: a.block,
         tail: a.tail,
         tuning,
+        tempo: a.tempo,
     };
     settings.validate()?;
     let (wav, report_path) = a.out.wav_and_report(&format!("play-{}.wav", found.stem))?;
@@ -168,6 +173,9 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
             "  the model was built with {reduced}; tensors {:.1} MB",
             r.tensor_megabytes
         );
+    }
+    if let Some(tuning) = &r.drone_tuning {
+        eprintln!("  the drone was {tuning}");
     }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.out.plot {

@@ -13,8 +13,8 @@
 
 use super::preset_engine::{start_engine, FoundPreset, PresetEngine, BANK_TIMEOUT};
 use crate::engine::{
-    Event, EventKind, FitReason, KeyTuning, ParamId, Preset, MAX_HOST_RATE, MAX_VOICES,
-    MIN_HOST_RATE,
+    Event, EventKind, FitReason, KeyTuning, ParamId, Preset, MAX_HOST_RATE, MAX_TEMPO, MAX_VOICES,
+    MIN_HOST_RATE, MIN_TEMPO,
 };
 use crate::error::{check_closed, Error, ParamError};
 use serde::Serialize;
@@ -225,10 +225,13 @@ pub struct PlaySettings {
     /// The pitch of every key (12-TET: [`KeyTuning::equal`]; a Scala file:
     /// [`crate::engine::load_scala`]).
     pub tuning: KeyTuning,
+    /// The host's tempo (beats per minute; `None`: none), as a host's transport gives it
+    /// (the drone's cycle follows it with `drone_sync` on).
+    pub tempo: Option<f64>,
 }
 
 impl PlaySettings {
-    /// Checks each setting (errors name `--rate`, `--block`, `--tail`).
+    /// Checks each setting (errors name `--rate`, `--block`, `--tail`, `--tempo`).
     pub fn validate(&self) -> Result<(), ParamError> {
         check_closed("--rate", self.host_rate, MIN_HOST_RATE, MAX_HOST_RATE)?;
         if !(1..=MAX_BLOCK).contains(&self.block) {
@@ -239,6 +242,9 @@ impl PlaySettings {
             ));
         }
         check_closed("--tail", self.tail, 0.0, MAX_SECONDS)?;
+        if let Some(bpm) = self.tempo {
+            check_closed("--tempo", bpm, MIN_TEMPO, MAX_TEMPO)?;
+        }
         Ok(())
     }
 }
@@ -331,6 +337,9 @@ pub struct PlayReport {
     /// The bank was built with fewer modes than asked: "1000 of 2000 modes (memory cap)"
     /// (offline, only the memory cap reduces a model; `null` otherwise).
     pub reduced: Option<String>,
+    /// How a drone's strings were tuned ("tuned by ear at the root and 6 and 12 semitones
+    /// around it"; `null` for the other models).
+    pub drone_tuning: Option<String>,
 }
 
 /// A finished play: the stereo output at the host rate and its report.
@@ -386,6 +395,7 @@ pub fn play(
     )?;
     // Taken by the engine at its first block, before any note.
     params.tuning().set(&settings.tuning);
+    engine.set_host_tempo(settings.tempo);
     let rate = settings.host_rate;
     let total = (seconds * rate).round() as usize;
     let at = |t: f64| ((t * rate).round() as usize).min(total.saturating_sub(1));
@@ -471,6 +481,7 @@ pub fn play(
             };
             format!("{} of {} modes ({why})", f.built, f.wanted)
         }),
+        drone_tuning: engine.drone_tuning().map(|t| t.to_string()),
     };
     Ok(Played { out, report })
 }

@@ -143,7 +143,7 @@ pub fn render_preset(preset: &Preset, seconds: f64) -> Result<PresetRender, Para
 }
 
 /// The parameter that sets how hard a preset's note is excited: the pluck amplitude of a
-/// string, the mallet's speed with the mallet exciter, else the strike force.
+/// string or the drone, the mallet's speed with the mallet exciter, else the strike force.
 pub fn excitation_level(preset: &Preset) -> Result<ParamId, ParamError> {
     let v = preset.values()?;
     Ok(if !v.model().is_plate() {

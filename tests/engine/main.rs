@@ -11,6 +11,7 @@ mod always_playable;
 mod band_above;
 mod cascade;
 mod closure;
+mod drone;
 mod engine;
 mod engine_alloc;
 mod engine_hand;

@@ -99,6 +99,14 @@ fn a_parameter_an_instrument_does_not_read_does_not_change_its_sound() {
         ("rectangle", instrument("rect-plate", &[])),
         ("sitar", instrument("sitar", &[])),
         ("tanpura", instrument("tanpura", &[(ParamId::Modes, 60.0)])),
+        // The drone on a grid of 200 modes (step 5 mm), its jivari on the node at 10 mm.
+        (
+            "tanpura drone",
+            instrument(
+                "tanpura-drone",
+                &[(ParamId::Modes, 200.0), (ParamId::Jivari, 10.0)],
+            ),
+        ),
     ];
     let mut checked = 0;
     for (name, v) in &instruments {

@@ -336,6 +336,7 @@ fn notes_start_at_their_sample() {
     };
     let tl = notes_timeline(&[note], &[0.1], 0.0).unwrap();
     let settings = PlaySettings {
+        tempo: None,
         host_rate: 48_000.0,
         block: 512,
         tail: 0.05,

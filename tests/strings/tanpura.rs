@@ -286,7 +286,7 @@ fn a_retuned_drone_sounds_the_held_key() {
     }
     eprintln!("retuned drone, cents per string: {report:.3?}; without anchors at -12: {off:.3?}");
     assert!(t.retune(f64::NAN, 0.0).is_err() && t.retune(1.0, -1.0).is_err());
-    assert!(t.set_strength(1.5).is_err());
+    assert!(t.set_strength(10.5).is_err() && t.set_strength(-0.1).is_err());
 
     // Half strength: the first pluck brings a quarter of the energy (the pluck's energy is
     // quadratic in its amplitude), to round-off.
@@ -341,6 +341,14 @@ fn the_drone_plays_and_retunes_without_allocating() {
         }
         t.reset();
         t.set_plucking(true);
+        t.step();
+        // The stepping thread's retune refuses without allocating, and leaves the pitch.
+        assert!(t.try_retune(f64::NAN, 1.0, 0.0).is_err());
+        assert!(t.try_retune(1.0, -1.0, 0.0).is_err());
+        assert_eq!(t.ratio(), 1.0);
+        // A new cycle timing, from the next cycle.
+        t.set_cycle(2.0, noether::models::tanpura::Pattern::Even, 5.0, 0.1)
+            .unwrap();
         t.step();
     })
     .1;

@@ -80,6 +80,11 @@ impl Engine {
         (self.governor.reduced, self.governor.shed)
     }
 
+    /// How the strings of the drone bank in use were tuned (`None`: no bank, or not a drone).
+    pub fn drone_tuning(&self) -> Option<super::DroneTuning> {
+        self.bank.as_ref().and_then(|b| b.drone_tuning)
+    }
+
     /// The mode count the worker lowered to fit the playing string bank's voices to the CPU
     /// budget (`engine/string_bank.rs`), if it did. Any thread that owns the engine.
     pub fn modes_fitted(&self) -> Option<ModesFitted> {
@@ -147,16 +152,17 @@ impl Engine {
             self.bank = None;
         }
         // A string bank fitted to another voice share (the governor switched, the budget
-        // changed) is built again, and a plate bank priced (or not) by trials when the
-        // governor is on (off) is built again priced the other way (`engine/cost_trial.rs`).
+        // changed) is built again, and a plate or drone bank priced (or not) by trials when
+        // the governor is on (off) is built again priced the other way
+        // (`engine/cost_trial.rs`).
         let share = self
             .governor
             .on
             .then(|| voice_share(wanted.get(ParamId::CpuBudget), self.governor.cores));
         let first_build = self.bank.as_ref().is_none_or(|b| {
             b.values.rebuild_key() != wanted.rebuild_key()
-                || (!b.kind.is_plate() && b.share != share)
-                || (b.kind.is_plate() && b.share.is_some() != share.is_some())
+                || (b.kind.is_string() && b.share != share)
+                || (!b.kind.is_string() && b.share.is_some() != share.is_some())
         });
         self.generation += 1;
         if let Some(b) = self.bank.as_mut() {

@@ -8,15 +8,18 @@
 
 use super::above_mix::{above_rate, AboveMix};
 use super::cost_trial::Jobs;
+use super::drone_bank::{drone_preview, drone_voices};
+use super::drone_tuning::DroneTuning;
 use super::governor::CostModel;
 use super::kinds::ModelKind;
 use super::memory::ModesFitted;
+use super::model_spec::DRONE_MIN_SIM_RATE;
 use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
 use super::pool::Lanes;
 use super::resample::Resampler;
 use super::string_bank::string_voices;
-use super::voice::{Voice, VoiceModel};
+use super::voice::{Voice, VoiceModel, DRONE_FORCE_REF};
 use crate::error::ParamError;
 pub use crate::models::plate::basis::ModalCache;
 use crate::models::plate::StepBoard;
@@ -83,6 +86,8 @@ pub(crate) struct Bank {
     /// A preview: the small model a live host plays while the full one builds
     /// ([`Self::preview_of`]).
     pub preview: bool,
+    /// How a drone bank's strings were tuned (`None` for the other models).
+    pub drone_tuning: Option<DroneTuning>,
 }
 
 impl Bank {
@@ -100,35 +105,62 @@ impl Bank {
         id: u64,
         share: Option<f64>,
     ) -> Result<Bank, ParamError> {
+        Self::build_as(v, host_rate, cache, board, id, share, false)
+    }
+
+    /// [`Self::build`]; `quick` builds a drone without tuning it by ear (its preview,
+    /// `engine/drone_bank.rs`). Worker thread.
+    fn build_as(
+        v: &ParamValues,
+        host_rate: f64,
+        cache: &mut ModalCache,
+        board: &Arc<StepBoard>,
+        id: u64,
+        share: Option<f64>,
+        quick: bool,
+    ) -> Result<Bank, ParamError> {
         crate::error::check_positive("host_rate", host_rate)?;
         let kind = v.model();
         let voices_n = v.index_of(ParamId::Polyphony).max(1);
         let voices;
         let fitted;
-        let norm;
+        let mut drone_tuning = None;
         let sim_rate = Self::sim_rate_of(v);
+        // The pickups' scale: a plate's and a string's velocity, the drone's bridge force.
+        let norm = 1.0
+            / if kind.is_plate() {
+                PLATE_VELOCITY_REF
+            } else if kind.is_drone() {
+                DRONE_FORCE_REF
+            } else {
+                STRING_VELOCITY_REF
+            };
+        let jobs = Jobs {
+            host: host_rate,
+            sim: sim_rate,
+            // Only plates have a band above their simulation.
+            above: if kind.is_plate() {
+                above_rate(host_rate)
+            } else {
+                0.0
+            },
+            chunk: CHUNK,
+            gain: norm,
+        };
         if kind.is_plate() {
-            norm = 1.0 / PLATE_VELOCITY_REF;
-            let jobs = Jobs {
-                host: host_rate,
-                sim: sim_rate,
-                above: above_rate(host_rate),
-                chunk: CHUNK,
-                gain: norm,
-            };
             (voices, fitted) = plate_voices(kind, v, jobs, voices_n, cache, board, share)?;
-        } else {
-            norm = 1.0 / STRING_VELOCITY_REF;
-            let jobs = Jobs {
-                host: host_rate,
-                sim: sim_rate,
-                above: 0.0,
-                chunk: CHUNK,
-                gain: norm,
+        } else if kind.is_drone() {
+            voices = if quick {
+                drone_tuning = Some(DroneTuning::Tensions { asked: false });
+                drone_preview(v, jobs, voices_n)?
+            } else {
+                let (built, tuning) = drone_voices(v, jobs, voices_n, share)?;
+                drone_tuning = Some(tuning);
+                built
             };
-            let (built, reduced) = string_voices(kind, v, jobs, voices_n, share)?;
-            voices = built;
-            fitted = reduced;
+            fitted = None;
+        } else {
+            (voices, fitted) = string_voices(kind, v, jobs, voices_n, share)?;
         }
         let tensor_bytes = match voices.first().map(|v| &v.model) {
             Some(VoiceModel::Plate(pv)) => pv.data.tensor_bytes,
@@ -158,6 +190,7 @@ impl Bank {
             share,
             tensor_bytes,
             preview: false,
+            drone_tuning,
         })
     }
 
@@ -192,11 +225,33 @@ impl Bank {
         Err(refused)
     }
 
+    /// The preview of `v` a live host plays while the full model builds, if it has one (see
+    /// [`Self::preview_of`] for plates; a drone's preview is the same drone tuned by its
+    /// tensions alone, `engine/drone_bank.rs`). `None`: no preview, or it was refused (the
+    /// full build reports the refusal). Worker thread.
+    pub fn build_preview(
+        v: &ParamValues,
+        host_rate: f64,
+        cache: &mut ModalCache,
+        board: &Arc<StepBoard>,
+        id: u64,
+    ) -> Option<Bank> {
+        let (values, quick) = if v.model().is_drone() {
+            (*v, true)
+        } else {
+            (Self::preview_of(v)?, false)
+        };
+        let mut bank = Self::build_as(&values, host_rate, cache, board, id, None, quick).ok()?;
+        bank.preview = true;
+        Some(bank)
+    }
+
     /// The parameters of the preview of `v`: the same plate with at most [`PREVIEW_MODES`]
     /// transverse and [`PREVIEW_IN_PLANE`] in-plane modes (same band limit, so the same
     /// simulation rate and latency), played by a live host while the full model builds on a
-    /// cold cache. `None` for strings (they build in milliseconds) and plates already that
-    /// small. Any thread.
+    /// cold cache. `None` for strings (they build in milliseconds), the drone (whose preview
+    /// has the same parameters, [`Self::build_preview`]) and plates already that small. Any
+    /// thread.
     pub fn preview_of(v: &ParamValues) -> Option<ParamValues> {
         if !v.model().is_plate() || v.index_of(ParamId::Modes) <= PREVIEW_MODES {
             return None;
@@ -209,7 +264,8 @@ impl Bank {
     }
 
     /// The simulation rate (Hz) a bank of the parameters `v` runs at: a plate's from its band
-    /// limit and scheme ([`plate_sim_rate`]), a string's the `sim_rate` parameter. Any thread.
+    /// limit and scheme ([`plate_sim_rate`]), a string's or the drone's the `sim_rate`
+    /// parameter. Any thread.
     pub fn sim_rate_of(v: &ParamValues) -> f64 {
         if v.model().is_plate() {
             plate_sim_rate(
@@ -217,6 +273,10 @@ impl Bank {
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
             )
+        } else if v.model().is_drone() {
+            (v.get(ParamId::SimRate) as f64)
+                .max(DRONE_MIN_SIM_RATE)
+                .round()
         } else {
             v.get(ParamId::SimRate) as f64
         }

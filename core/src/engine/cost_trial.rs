@@ -79,6 +79,7 @@ pub(crate) fn time_note(voice: &mut Voice, v: &ParamValues, jobs: Jobs) -> Optio
         bend: 0.0,
         tuning: KeyTuning::default(),
         price_cap: f64::INFINITY,
+        tempo: None,
     };
     let key = v.get(ParamId::RootKey).round().clamp(0.0, 127.0) as u8;
     let start = |voice: &mut Voice| voice.start(&p, key, 1.0, 1.0, 0);

@@ -18,7 +18,7 @@ fn bank(v: &ParamValues, cache: &mut ModalCache, governed: bool) -> Bank {
 fn plate_prices_of(b: &Bank) -> Vec<f64> {
     match &b.voices[0].model {
         VoiceModel::Plate(pv) => pv.data.tier_price.clone(),
-        VoiceModel::String(_) => unreachable!("a plate bank"),
+        _ => unreachable!("a plate bank"),
     }
 }
 
@@ -81,7 +81,7 @@ fn a_governed_string_bank_carries_the_trials_price() {
     let mut cache = ModalCache::default();
     let price = |b: &Bank| match &b.voices[1].model {
         VoiceModel::String(sv) => sv.price,
-        VoiceModel::Plate(_) => unreachable!("a string bank"),
+        _ => unreachable!("a string bank"),
     };
     let prior = price(&bank(&v, &mut cache, false));
     let modes = v.index_of(ParamId::Modes) as f64;
@@ -105,4 +105,41 @@ fn a_governed_string_bank_carries_the_trials_price() {
         "{measured:e}"
     );
     assert!(b.voices.iter().all(|v| !v.active));
+}
+
+/// A drone bank (tuned by its tensions, so it builds at once) is priced by the prior estimate
+/// off the governor and by a trial under it: every voice carries the trial's price, which is
+/// positive and finite, and differs from the prior (a trial that timed nothing would leave the
+/// prior, or 0).
+#[test]
+fn a_governed_drone_bank_carries_the_trials_price() {
+    let mut v = crate::engine::Preset::factory_named("tanpura-drone")
+        .expect("factory preset")
+        .values()
+        .expect("valid");
+    v.0[ParamId::Polyphony.index()] = 2.0;
+    v.0[ParamId::DroneEar.index()] = 0.0;
+    let mut cache = ModalCache::default();
+    let prices = |b: &Bank| -> Vec<f64> {
+        b.voices
+            .iter()
+            .map(|voice| match &voice.model {
+                VoiceModel::Drone(dv) => dv.price,
+                _ => unreachable!("a drone bank"),
+            })
+            .collect()
+    };
+    let prior = prices(&bank(&v, &mut cache, false));
+    assert!(prior[0] > 0.0 && prior[0] == prior[1]);
+    if thread_cpu_time().is_none() {
+        return;
+    }
+    let measured = prices(&bank(&v, &mut cache, true));
+    println!(
+        "drone step: prior {:.2e} s, measured {:.2e} s",
+        prior[0], measured[0]
+    );
+    assert!(measured[0].is_finite() && measured[0] > 0.0);
+    assert_eq!(measured[0], measured[1]);
+    assert_ne!(measured[0], prior[0]);
 }

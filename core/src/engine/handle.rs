@@ -317,13 +317,14 @@ fn first_build(
 /// Builds and sends the preview of `wanted` (`Bank::preview_of`), if it has one and builds;
 /// a refusal is left to the full build that follows, which reports it.
 fn preview(s: &mut WorkerSetup, current: &Current, wanted: &ParamValues, stop: &AtomicBool) {
-    let Some(v) = Bank::preview_of(wanted) else {
+    if Bank::preview_of(wanted).is_none() && !wanted.model().is_drone() {
         return;
-    };
+    }
     let id = s.begin_build();
-    if let Ok(mut bank) = Bank::build(&v, current.host_rate, &mut s.cache, &s.board, id, None) {
+    if let Some(mut bank) =
+        Bank::build_preview(wanted, current.host_rate, &mut s.cache, &s.board, id)
+    {
         bank.generation = current.generation;
-        bank.preview = true;
         send(s, Box::new(bank), stop);
     }
 }

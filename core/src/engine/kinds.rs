@@ -14,16 +14,20 @@ pub enum ModelKind {
     Sitar,
     /// Stiff string against a point bridge near the end (the lecture's tanpura).
     Tanpura,
+    /// The tanpura drone: four to six strings with their jivari on one moving bridge, tuned
+    /// to Sa (the key held) and plucked in a cycle (`models::tanpura`).
+    Drone,
 }
 
 impl ModelKind {
     /// Every model, in parameter index order.
-    pub const ALL: [ModelKind; 5] = [
+    pub const ALL: [ModelKind; 6] = [
         ModelKind::Gong,
         ModelKind::Cymbal,
         ModelKind::RectPlate,
         ModelKind::Sitar,
         ModelKind::Tanpura,
+        ModelKind::Drone,
     ];
 
     /// The model at parameter index `i` (out-of-range indices give the gong; values that
@@ -42,13 +46,25 @@ impl ModelKind {
         matches!(self, Self::Gong | Self::Cymbal)
     }
 
-    /// Whether this is a string model (sitar, tanpura).
+    /// Whether this is a single-string model (sitar, tanpura).
     pub fn is_string(self) -> bool {
-        !self.is_plate()
+        matches!(self, Self::Sitar | Self::Tanpura)
+    }
+
+    /// Whether this is the tanpura drone (strings on a moving bridge, a pluck cycle).
+    pub fn is_drone(self) -> bool {
+        self == Self::Drone
     }
 
     /// Stable names used in presets, in parameter index order.
-    pub const KEYS: [&'static str; 5] = ["gong", "cymbal", "rect-plate", "sitar", "tanpura"];
+    pub const KEYS: [&'static str; 6] = [
+        "gong",
+        "cymbal",
+        "rect-plate",
+        "sitar",
+        "tanpura",
+        "tanpura-drone",
+    ];
 
     /// Stable name used in presets ([`Self::KEYS`]).
     pub fn key(self) -> &'static str {

@@ -28,7 +28,7 @@ fn build(v: &ParamValues, cache: &mut ModalCache) -> Result<Bank, ParamError> {
 fn tensor(bank: &Bank, slot: usize) -> *const crate::modal::CouplingTensor {
     match &bank.voices[slot].model {
         VoiceModel::Plate(pv) => Arc::as_ptr(pv.model().coupling()),
-        VoiceModel::String(_) => std::ptr::null(),
+        _ => std::ptr::null(),
     }
 }
 

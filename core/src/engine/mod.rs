@@ -117,6 +117,8 @@ mod bank;
 mod cost_trial;
 #[cfg(test)]
 mod cost_trial_tests;
+mod drone_bank;
+mod drone_tuning;
 mod events;
 pub mod governor;
 mod handle;
@@ -152,15 +154,25 @@ mod voice_jobs;
 pub use crate::models::plate::spec::Material;
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
+pub use drone_bank::DRONE_ANCHORS;
+pub use drone_tuning::{DroneTuning, DRONE_TUNING_BUDGET};
 pub use events::{Event, EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::ModelKind;
 pub use memory::{FitReason, ModesFitted};
 pub use mix::SILENCE_RATIO;
+
+/// Slowest host tempo the engine takes (beats per minute; `Engine::set_host_tempo`).
+pub const MIN_TEMPO: f64 = 20.0;
+
+/// Fastest host tempo the engine takes (beats per minute).
+pub const MAX_TEMPO: f64 = 400.0;
+pub use model_spec::{drone_modes, DRONE_MIN_SIM_RATE};
 pub use output::{OutputStage, CEILING, LOOKAHEAD};
 pub use param_meta::{ParamGroup, Reads, Shown};
 pub use params::{
-    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, EXCITER_NAMES, MALLET_HEAD_NAMES,
+    ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, DRONE_PATTERN_KEYS,
+    DRONE_PATTERN_NAMES, DRONE_TUNING_KEYS, DRONE_TUNING_NAMES, EXCITER_NAMES, MALLET_HEAD_NAMES,
     MATERIAL_NAMES, MODEL_KEYS, MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_KEYS,
     SCHEME_NAMES,
 };
@@ -169,11 +181,12 @@ pub use pool::in_voice_job;
 pub use preset::{legacy_bridge_fraction, Preset, PresetValue, LEGACY_BRIDGE_POSITION};
 pub use scala::{load_scala, scala_tuning, ScalaError, ScalaTuning};
 pub use telemetry::{
-    Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
+    DroneView, Telemetry, VoiceModelInfo, VoiceTelemetry, DRONE_VIEW_POINTS, MAX_DRONE_STRINGS,
+    MAX_VOICES, SNAPSHOT_POINTS, SPECTRUM_MODES,
 };
 pub use tuning::{KeyTuning, SharedTuning, KEY_COUNT};
 pub use voice::{
-    mallet_law, HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60, MALLET_ALPHA_HARD,
-    MALLET_ALPHA_SOFT, MALLET_K_HARD, MALLET_K_SOFT, MALLET_LOSS, MALLET_MAX_FLIGHT,
-    REACH_CHECK_STEPS, VOICE_CEILING,
+    mallet_law, DRONE_FORCE_REF, HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60,
+    MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_K_HARD, MALLET_K_SOFT, MALLET_LOSS,
+    MALLET_MAX_FLIGHT, REACH_CHECK_STEPS, VOICE_CEILING,
 };

@@ -22,6 +22,13 @@ use crate::models::string::spec::{
     StringContact, StringExcitation, StringObstacle, StringOutput, StringSpec,
 };
 use crate::models::string::{Readout, ValetteLosses};
+use crate::models::tanpura::{Pattern, TanpuraSpec, Tuning};
+
+/// Largest onset shift of the drone's cycle at full human variation, ms.
+pub(crate) const DRONE_MAX_TIMING_JITTER_MS: f64 = 20.0;
+
+/// Largest relative change of a drone pluck's strength at full human variation.
+pub(crate) const DRONE_MAX_STRENGTH_JITTER: f64 = 0.2;
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
@@ -247,5 +254,71 @@ pub(crate) fn string_spec(
             pickup(ParamId::PickupRightPos),
         ],
         snapshots: Vec::new(),
+    }
+}
+
+/// Lowest Sa (Hz) the drone is built at: a root key below it builds the drone there and
+/// its keys retune it from there (`engine/voice/drone.rs`).
+pub(crate) const DRONE_SA_MIN: f64 = 32.0;
+
+/// Highest Sa (Hz) the drone is built at (as [`DRONE_SA_MIN`]).
+pub(crate) const DRONE_SA_MAX: f64 = 1000.0;
+
+/// Fewest modes per drone string.
+pub(crate) const DRONE_MIN_MODES: usize = 32;
+
+/// Lowest simulation rate of the drone (Hz): the `sim_rate` parameter is a floor under it.
+pub const DRONE_MIN_SIM_RATE: f64 = 16_000.0;
+
+/// Speaking length of the drone's strings (m): the scenes' default.
+const DRONE_LENGTH: f64 = 1.0;
+
+/// The modes per string of the drone for `v`: the `modes` parameter, at least
+/// [`DRONE_MIN_MODES`], and at least as many as put the jivari 1.5 grid steps beyond the seat
+/// (`Δx = L/(N + 1) ≤ j/1.5`: 499 modes for 3 mm, 299 for 5 mm, 49 for 30 mm), so every
+/// position of the parameter's range builds. Any thread.
+pub fn drone_modes(v: &ParamValues) -> usize {
+    let jivari = f64::from(v.get(ParamId::Jivari)) * 1e-3;
+    let for_jivari = (1.5 * DRONE_LENGTH / jivari).ceil() as usize - 1;
+    v.index_of(ParamId::Modes)
+        .max(DRONE_MIN_MODES)
+        .max(for_jivari)
+}
+
+/// The Sa (Hz) the drone of `v` is built and tuned at: the root key's pitch
+/// (`440 · 2^((root - 69)/12)`), within [`DRONE_SA_MIN`] to [`DRONE_SA_MAX`]. Any thread.
+pub(crate) fn drone_sa(v: &ParamValues) -> f64 {
+    let root = f64::from(v.get(ParamId::RootKey));
+    (440.0 * ((root - 69.0) / 12.0).exp2()).clamp(DRONE_SA_MIN, DRONE_SA_MAX)
+}
+
+/// The instrument's tanpura drone for `v` at `sim_rate` (Hz; at least
+/// [`DRONE_MIN_SIM_RATE`]), as a scene's `[tanpura]` table: Sa at [`drone_sa`] (the notes
+/// retune it to their own pitch), the tuning, strings, jivari and cycle parameters, tuned by
+/// ear or not (`drone_ear`), [`drone_modes`] per string; the pluck's shape and the strings'
+/// dimensions at the scene's defaults. Not validated here (the drone's builder validates).
+/// Worker thread.
+pub(crate) fn drone_spec(v: &ParamValues, sim_rate: f64) -> TanpuraSpec {
+    let variation = v.get(ParamId::DroneVariation) as f64;
+    TanpuraSpec {
+        tuning: Tuning::ALL[v.index_of(ParamId::DroneTuning).min(Tuning::ALL.len() - 1)],
+        strings: v.index_of(ParamId::DroneStrings),
+        length: DRONE_LENGTH,
+        modes: drone_modes(v),
+        // Whole hertz: a host's normalised value of the rate comes back a few ulps off
+        // (47999.996 Hz), which would tune a drone of its own instead of sharing the tuning
+        // of the drone at 48 kHz.
+        sim_rate: sim_rate.max(DRONE_MIN_SIM_RATE).round(),
+        cycle_seconds: v.get(ParamId::DroneCycle) as f64,
+        pattern: if v.index_of(ParamId::DronePattern) == 1 {
+            Pattern::Even
+        } else {
+            Pattern::Classic
+        },
+        timing_jitter_ms: DRONE_MAX_TIMING_JITTER_MS * variation,
+        strength_jitter: DRONE_MAX_STRENGTH_JITTER * variation,
+        jivari_mm: vec![v.get(ParamId::Jivari) as f64],
+        tune_by_ear: v.index_of(ParamId::DroneEar) == 1,
+        ..TanpuraSpec::at(drone_sa(v))
     }
 }

@@ -29,6 +29,10 @@ pub(super) struct NoteState {
     pub retune_wait: usize,
     /// Keys sounding at the last `Engine::sounding_keys` that could read the bank.
     pub sounding_keys: u128,
+    /// The host's tempo (beats per minute; `None`: none given).
+    pub tempo: Option<f64>,
+    /// The tempo the sounding voices were last tuned with.
+    pub tempo_applied: Option<f64>,
 }
 
 impl NoteState {
@@ -45,6 +49,8 @@ impl NoteState {
             applied: (values, 0.0),
             retune_wait: 0,
             sounding_keys: 0,
+            tempo: None,
+            tempo_applied: None,
         }
     }
 

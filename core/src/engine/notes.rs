@@ -36,12 +36,23 @@ impl Engine {
         self.apply(EventKind::Sustain(down));
     }
 
+    /// The host's tempo in beats per minute (`None`: the host gives none, or stopped giving
+    /// one), for the drone's cycle when it follows the tempo (`drone_sync`). Values outside
+    /// [`MIN_TEMPO`](super::MIN_TEMPO) to [`MAX_TEMPO`](super::MAX_TEMPO) or not finite are
+    /// taken as none. A change retunes the sounding voices (at most every
+    /// `RETUNE_INTERVAL`). Audio thread, O(1), no allocation; a host calls it each block.
+    pub fn set_host_tempo(&mut self, bpm: Option<f64>) {
+        self.notes.tempo =
+            bpm.filter(|b| b.is_finite() && (super::MIN_TEMPO..=super::MAX_TEMPO).contains(b));
+    }
+
     pub(super) fn physics(&self) -> Physics {
         Physics {
             values: self.values,
             bend: self.notes.bend,
             tuning: self.notes.key_tuning,
             price_cap: f64::INFINITY,
+            tempo: self.notes.tempo,
         }
     }
 
@@ -293,6 +304,7 @@ impl Engine {
         }
         self.notes.retune_wait = self.notes.retune_wait.saturating_sub(len);
         let changed = self.notes.applied.1 != self.notes.bend
+            || self.notes.tempo_applied != self.notes.tempo
             || self.notes.tuning_applied != self.notes.tuning_seen
             || PARAMS.iter().filter(|p| !p.rebuild).any(|p| {
                 self.notes.applied.0.get(p.id).to_bits() != self.values.get(p.id).to_bits()
@@ -301,6 +313,7 @@ impl Engine {
             return;
         }
         self.notes.applied = (self.values, self.notes.bend);
+        self.notes.tempo_applied = self.notes.tempo;
         self.notes.tuning_applied = self.notes.tuning_seen;
         self.notes.retune_wait = (RETUNE_INTERVAL * self.host_rate) as usize;
         let p = self.physics();
@@ -326,6 +339,7 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
     let cheapest = match &b.voices[slot].model {
         VoiceModel::Plate(pv) => pv.data.tier_price.last().copied().unwrap_or(0.0),
         VoiceModel::String(sv) => sv.price,
+        VoiceModel::Drone(dv) => dv.price,
     };
     let mut shed = 0;
     let room = loop {

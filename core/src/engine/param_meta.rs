@@ -13,6 +13,9 @@
 pub enum Reads {
     /// Every model.
     All,
+    /// The plates and the single strings: every model but the drone (which has its own
+    /// strings' lengths and hears its bridge, not a point of a string).
+    Bodies,
     /// The plates (gong, cymbal, rectangle).
     Plates,
     /// The circular plates (gong, cymbal).
@@ -21,8 +24,12 @@ pub enum Reads {
     RectPlate,
     /// The strings (sitar, tanpura).
     Strings,
+    /// The plucked models: the strings and the drone.
+    Plucked,
     /// The sitar (its curved bridge).
     Sitar,
+    /// The tanpura drone (its tuning, strings, jivari and cycle).
+    Drone,
     /// The plates made of the custom material (its elastic constants).
     CustomMaterial,
     /// The plates struck by the force pulse (`exciter` = pulse).

@@ -43,6 +43,15 @@ fn each_instrument_reads_its_own_parameters() {
     // A string's mallet choice is not a mallet.
     let plucked = with(&[(Model, 4.0), (Exciter, 1.0)]);
     assert!(!reads(MalletSpeed, &plucked) && !reads(StrikeForce, &plucked));
+    // The drone reads its own rows, not a single string's nor a plate's, nor a point of a
+    // body (its output is the bridge).
+    let drone = with(&[(Model, 5.0)]);
+    assert!(reads(Jivari, &drone) && reads(DroneLatch, &drone) && reads(Modes, &drone));
+    assert!(!reads(Tension, &drone) && !reads(PluckPosition, &drone));
+    assert!(reads(PluckAmplitude, &drone) && reads(PluckAmplitude, &sitar));
+    assert!(!reads(StrikeForce, &drone) && !reads(Size, &drone));
+    assert!(!reads(PickupLeftPos, &drone) && reads(PickupLeftPos, &sitar));
+    assert!(!reads(Jivari, &sitar) && !reads(DroneCycle, &gong));
 }
 
 /// Every group has parameters, and the row's help names what it reads where it is not
@@ -55,11 +64,12 @@ fn groups_and_help_agree_with_the_rows() {
     for p in PARAMS {
         let help = p.help.to_lowercase();
         let named = match p.reads {
-            Reads::All => true,
+            Reads::All | Reads::Bodies => true,
+            Reads::Drone => help.contains("drone"),
             Reads::Plates | Reads::CustomMaterial | Reads::Pulse => help.contains("plate"),
             Reads::CircularPlates => help.contains("circular"),
             Reads::RectPlate => help.contains("rectang"),
-            Reads::Strings => help.contains("string"),
+            Reads::Strings | Reads::Plucked => help.contains("string"),
             Reads::Sitar => help.contains("sitar"),
             Reads::Mallet | Reads::CustomMallet => help.contains("mallet"),
         };

@@ -79,10 +79,24 @@ pub const MODEL_NAMES: &[&str] = &[
     "rectangular plate (simply supported)",
     "sitar",
     "tanpura",
+    "tanpura drone",
 ];
 
 /// Preset names of [`ParamId::Model`] values, in index order ([`ModelKind::key`](super::ModelKind::key)).
 pub const MODEL_KEYS: &[&str] = &ModelKind::KEYS;
+
+/// Names of [`ParamId::DroneTuning`] values: the first string's note (`models::tanpura::Tuning`).
+pub const DRONE_TUNING_NAMES: &[&str] =
+    &["Pa-Sa-Sa-Sa", "Ma-Sa-Sa-Sa", "Ni-Sa-Sa-Sa", "Sa-Sa-Sa-Sa"];
+
+/// Preset names of [`ParamId::DroneTuning`] values, in index order (the scenes' names).
+pub const DRONE_TUNING_KEYS: &[&str] = &["pa", "ma", "ni", "sa"];
+
+/// Names of [`ParamId::DronePattern`] values (`models::tanpura::Pattern`).
+pub const DRONE_PATTERN_NAMES: &[&str] = &["three and a pause", "even"];
+
+/// Preset names of [`ParamId::DronePattern`] values, in index order (the scenes' names).
+pub const DRONE_PATTERN_KEYS: &[&str] = &["classic", "even"];
 
 /// Names of the two values of a switch parameter (`limiter`).
 pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
@@ -171,9 +185,9 @@ const LOG: ParamKind = ParamKind::Float { log: true };
 const INT: ParamKind = ParamKind::Int;
 
 params! {
-    Model, "model", "Model", "", 0.0, 4.0, 0.0, ParamKind::Enum { names: MODEL_NAMES, keys: MODEL_KEYS }, true, ModelAndMaterial, All, Plain(""),
-        "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura.";
-    Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false, ModelAndMaterial, All, Length,
+    Model, "model", "Model", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MODEL_NAMES, keys: MODEL_KEYS }, true, ModelAndMaterial, All, Plain(""),
+        "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura (one string), tanpura drone (its strings on a moving bridge, plucked in a cycle).";
+    Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false, ModelAndMaterial, Bodies, Length,
         "Plates: radius (circular) or the side lx (rectangle), a rescale; strings: length, which rebuilds the grid.";
     Thickness, "thickness", "Thickness", "m", r::PLATE_THICKNESS.play_min as f32, r::PLATE_THICKNESS.play_max as f32, 1.0e-3, LOG, false, ModelAndMaterial, Plates, Length,
         "Plate thickness h (plates only); pitch f is proportional to h / a^2.";
@@ -205,11 +219,11 @@ params! {
         "Peak strike force at velocity 1 (plates).";
     VelocityCurve, "velocity_curve", "Velocity curve", "", 0.0, 4.0, 1.0, F, false, Excitation, All, Plain(""),
         "Force (or pluck amplitude) = value at velocity 1 times velocity^curve.";
-    PickupLeftPos, "pickup_left_pos", "Left pickup position", "", 0.01, 0.99, 0.896, F, true, Pickups, All, Percent,
+    PickupLeftPos, "pickup_left_pos", "Left pickup position", "", 0.01, 0.99, 0.896, F, true, Pickups, Bodies, Percent,
         "Left output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
     PickupLeftAngle, "pickup_left_angle", "Left pickup angle", "rad", 0.0, 6.2831855, 0.519, F, true, Pickups, Plates, Angle,
         "Left output point: polar angle (plates).";
-    PickupRightPos, "pickup_right_pos", "Right pickup position", "", 0.01, 0.99, 0.7, F, true, Pickups, All, Percent,
+    PickupRightPos, "pickup_right_pos", "Right pickup position", "", 0.01, 0.99, 0.7, F, true, Pickups, Bodies, Percent,
         "Right output point: fraction of the radius / half-diagonal (plates) or of the length (strings).";
     PickupRightAngle, "pickup_right_angle", "Right pickup angle", "rad", 0.0, 6.2831855, 2.5, F, true, Pickups, Plates, Angle,
         "Right output point: polar angle (plates).";
@@ -229,14 +243,14 @@ params! {
         "Penalty contact exponent (strings).";
     PluckPosition, "pluck_position", "Pluck position", "", 0.02, 0.98, 0.25, F, false, Excitation, Strings, Percent,
         "Triangular pluck apex as a fraction of the length (strings).";
-    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false, Excitation, Strings, Length,
-        "Triangular pluck apex displacement at velocity 1 (strings).";
+    PluckAmplitude, "pluck_amplitude", "Pluck amplitude", "m", r::PLUCK_AMPLITUDE.play_min as f32, r::PLUCK_AMPLITUDE.play_max as f32, 1.0e-3, LOG, false, Excitation, Plucked, Length,
+        "Triangular pluck apex displacement at velocity 1 (strings, and every pluck of the drone; the drone is tuned by ear at 1 mm, and plucked harder its pitch rises with the jawari, as a real one).";
     Modes, "modes", "Modes", "", r::PLATE_MODES.play_min as f32, r::PLATE_MODES.play_max as f32, 510.0, INT, true, Quality, All, Plain(""),
-        "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1.";
+        "Quality and CPU budget: the most transverse modes a plate note may simulate (a note stops earlier at the band limit), or the string modes N - 1 (the tanpura drone: per string, at least 32 and as many as its jivari needs).";
     InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true, Quality, Plates, Plain(""),
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
     SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 8000.0, LOG, true, Quality, All, Frequency,
-        "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz): for them this is a floor, to oversample.";
+        "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz) and the tanpura drone at least at 16 kHz: for them this is a floor, to oversample.";
     Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES, keys: SCHEME_KEYS }, true, Quality, Plates, Plain(""),
         "Quality: plate time scheme.";
     Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true, Quality, All, Count("voice", "voices"),
@@ -287,6 +301,26 @@ params! {
         "Live play (the plugin in a real-time host): the voices' measured work may use this many cores' time (0: 70 % of the machine's). A note that would pass it starts with a narrower band (fewer modes), and when even that does not fit, or blocks overrun, the quietest voice ends; every reduction is counted and shown. Offline renders ignore it.";
     MemoryCap, "memory_cap", "Memory cap", "MB", 0.0, 262144.0, 0.0, F, true, Quality, All, Auto("MB"),
         "Plates: the most memory one instance's coupling tensors may take, in MB (0: a quarter of the machine's memory, at most 4096 MB). A plate whose tensors would need more is built with fewer modes, a tier at a time (each 1/sqrt(2) of the modes, the in-plane modes in proportion), and the reduction is shown; it is never built at full size first.";
+    DroneTuning, "drone_tuning", "Drone tuning", "", 0.0, 3.0, 0.0, ParamKind::Enum { names: DRONE_TUNING_NAMES, keys: DRONE_TUNING_KEYS }, true, StringAndBridge, Drone, Plain(""),
+        "Tanpura drone: the first string's note against Sa (the key held), in just intonation: Pa 3/4, Ma 2/3, Ni 15/16 or the lower Sa 1/2; the others are Sa, Sa and the lower Sa (bronze for the low ones, steel for the others). The worker tunes every string by ear.";
+    DroneStrings, "drone_strings", "Drone strings", "strings", 4.0, 6.0, 4.0, INT, true, StringAndBridge, Drone, Count("string", "strings"),
+        "Tanpura drone: its strings (five adds a third middle Sa, six also a second lower Sa).";
+    Jivari, "jivari", "Jivari", "mm", 3.0, 30.0, 5.0, F, true, StringAndBridge, Drone, Plain("mm"),
+        "Tanpura drone: the thread under every string, its distance from the bridge's back edge in mm, where the string grazes the bridge and buzzes (nearer the edge, brighter). Resolved to the nearest grid node, at least 1.5 grid steps beyond the seat: the strings get as many modes as that needs (499 at 3 mm, 299 at 5 mm).";
+    DroneCycle, "drone_cycle", "Cycle period", "s", 0.5, 30.0, 4.0, LOG, false, Excitation, Drone, Time,
+        "Tanpura drone: the period of the pluck cycle (every string plucked once per period); a change takes over at the next cycle.";
+    DronePattern, "drone_pattern", "Cycle pattern", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: DRONE_PATTERN_NAMES, keys: DRONE_PATTERN_KEYS }, false, Excitation, Drone, Plain(""),
+        "Tanpura drone: the cycle's rhythm, the strings at equal gaps then a pause of two gaps (the usual), or evenly over the period.";
+    DroneVariation, "drone_variation", "Human variation", "", 0.0, 1.0, 0.0, F, false, Excitation, Drone, Percent,
+        "Tanpura drone: how freely the player's hand keeps the cycle: each onset moves by up to 20 ms and each pluck's strength by up to 20 % at 1 (0: the pattern exactly; a seeded variation, the same every time).";
+    DroneEar, "drone_ear", "Tune by ear", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, true, Quality, Drone, Plain(""),
+        "Tanpura drone: on, the worker tunes every string by ear when the drone is built (at the root and 6 and 12 semitones around it, within 0.2 cents; about 18 s for the factory drone, kept in the cache so a drone is tuned once); until it is done the drone plays tuned by its tensions alone, which is off by the seat's, the bridge's and the jawari's pull (up to 4 cents). Off: tensions alone, built at once.";
+    DroneSync, "drone_sync", "Follow the tempo", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Excitation, Drone, Plain(""),
+        "Tanpura drone: on, the cycle lasts 'cycle beats' of the host's tempo (from the next cycle whenever the tempo changes) instead of the cycle period; without a tempo from the host the cycle period holds.";
+    DroneBeats, "drone_beats", "Cycle beats", "beats", 1.0, 32.0, 8.0, INT, false, Excitation, Drone, Count("beat", "beats"),
+        "Tanpura drone with 'follow the tempo' on: the cycle's length in beats of the host's tempo (8 beats at 120 bpm: 4 s), within the cycle period's range of 0.5 to 30 s.";
+    DroneLatch, "drone_latch", "Latch", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Excitation, Drone, Plain(""),
+        "Tanpura drone: on, the drone keeps plucking after the key is let go, until another key is played or the latch is turned off (then it releases).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).
@@ -404,11 +438,14 @@ impl ParamValues {
         let mallet = plate && self.index_of(ParamId::Exciter) == 1;
         match id.info().reads {
             Reads::All => true,
+            Reads::Bodies => !model.is_drone(),
             Reads::Plates => plate,
             Reads::CircularPlates => model.is_circular(),
             Reads::RectPlate => model == ModelKind::RectPlate,
             Reads::Strings => model.is_string(),
+            Reads::Plucked => model.is_string() || model.is_drone(),
             Reads::Sitar => model == ModelKind::Sitar,
+            Reads::Drone => model.is_drone(),
             Reads::CustomMaterial => {
                 plate && self.index_of(ParamId::Material) + 1 == MATERIAL_NAMES.len()
             }
@@ -427,12 +464,14 @@ impl ParamValues {
     /// The values of the parameters that trigger a rebuild, in table order, with the others
     /// zeroed: two snapshots need the same bank iff their rebuild keys are equal. For the
     /// string models the size (the string's length, which sets the grid) is
-    /// part of the key.
+    /// part of the key, and for the tanpura drone the root key (where it is tuned by ear).
     pub fn rebuild_key(&self) -> ParamValues {
         let mut k = *self;
         let string = self.model().is_string();
+        let drone = self.model().is_drone();
         for p in PARAMS {
-            if !(p.rebuild || string && p.id == ParamId::Size) {
+            if !(p.rebuild || string && p.id == ParamId::Size || drone && p.id == ParamId::RootKey)
+            {
                 k.0[p.id.index()] = 0.0;
             }
         }
@@ -443,8 +482,9 @@ impl ParamValues {
     /// structure), keeping this set's playing values (gain, tuning, damping, ...).
     pub fn take_rebuild_values(&mut self, other: &ParamValues) {
         let string = other.model().is_string();
+        let drone = other.model().is_drone();
         for p in PARAMS {
-            if p.rebuild || string && p.id == ParamId::Size {
+            if p.rebuild || string && p.id == ParamId::Size || drone && p.id == ParamId::RootKey {
                 self.0[p.id.index()] = other.0[p.id.index()];
             }
         }

@@ -107,6 +107,10 @@ const FACTORY: &[(&str, &str)] = &[
     ),
     ("crash", include_str!("../../../assets/presets/crash.toml")),
     ("ride", include_str!("../../../assets/presets/ride.toml")),
+    (
+        "tanpura-drone",
+        include_str!("../../../assets/presets/tanpura-drone.toml"),
+    ),
 ];
 
 /// `x` as the f64 whose shortest decimal text is the f32's shortest text (so a saved preset

@@ -8,7 +8,7 @@ use super::audio::Engine;
 use super::bank::Bank;
 use super::kinds::ModelKind;
 use super::resample::Resampler;
-use super::telemetry::{Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
+use super::telemetry::{DroneView, Telemetry, VoiceModelInfo, VoiceTelemetry, MAX_VOICES};
 use crate::models::source::EnergyTerms;
 use ringbuf::traits::Producer;
 use std::sync::atomic::Ordering;
@@ -229,6 +229,7 @@ impl Engine {
         if let Some(b) = self.bank.as_mut() {
             t.bank = b.id;
             t.modes_fitted = b.fitted;
+            t.drone_tuning = b.drone_tuning;
             t.preview = b.preview;
             t.sim_rate = b.sim_rate as f32;
             let mut loudest: Option<(usize, f64)> = None;
@@ -254,9 +255,14 @@ impl Engine {
                 Some(w) if b.voices.get(w as usize).is_some_and(|v| v.active) => Some(w as usize),
                 _ => loudest.map(|l| l.0),
             };
+            t.drone = None;
             if let Some(w) = watched {
                 t.watched = Some(w as u8);
                 b.voices[w].snapshot(&mut t.displacement, &mut t.mode_freq, &mut t.mode_amplitude);
+                let mut view = DroneView::default();
+                if b.voices[w].drone_view(&mut view) {
+                    t.drone = Some(view);
+                }
             }
         }
         let _ = self.telemetry_tx.try_push(t);

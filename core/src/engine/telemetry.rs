@@ -3,6 +3,7 @@
 //!
 //! Plain `Copy` data of fixed size: pushing it never allocates.
 
+use super::drone_tuning::DroneTuning;
 use super::memory::ModesFitted;
 use crate::models::source::EnergyTerms;
 
@@ -53,6 +54,53 @@ pub struct VoiceModelInfo {
     pub above_top_hz: f32,
 }
 
+/// Most strings a drone view carries (the drone has four to six).
+pub const MAX_DRONE_STRINGS: usize = 6;
+
+/// Points of each string's displacement in a drone view.
+pub const DRONE_VIEW_POINTS: usize = 48;
+
+/// The watched drone voice's strings and cycle, for the editor's drone view. Plain `Copy`
+/// data written on the audio thread.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DroneView {
+    /// Strings in use (the first `strings` entries of the arrays).
+    pub strings: u8,
+    /// Each string's note over Sa (Pa 0.75, Ma 0.667, Ni 0.9375, Sa 1, the lower Sa 0.5).
+    pub ratio: [f32; MAX_DRONE_STRINGS],
+    /// Each string's energy (J).
+    pub energy: [f32; MAX_DRONE_STRINGS],
+    /// Each string's displacement (m) at `DRONE_VIEW_POINTS` points from the bridge to the
+    /// far end.
+    pub displacement: [[f32; DRONE_VIEW_POINTS]; MAX_DRONE_STRINGS],
+    /// Sa (Hz) the drone sounds.
+    pub sa_hz: f32,
+    /// The cycle's period (s).
+    pub cycle_seconds: f32,
+    /// Where the cycle is: the time since its start over its period (0 to 1).
+    pub cycle_phase: f32,
+    /// Each string's pluck in the cycle, as a fraction of the period.
+    pub onsets: [f32; MAX_DRONE_STRINGS],
+    /// Whether the cycle plucks (the note is held, sustained or latched).
+    pub plucking: bool,
+}
+
+impl Default for DroneView {
+    fn default() -> Self {
+        Self {
+            strings: 0,
+            ratio: [0.0; MAX_DRONE_STRINGS],
+            energy: [0.0; MAX_DRONE_STRINGS],
+            displacement: [[0.0; DRONE_VIEW_POINTS]; MAX_DRONE_STRINGS],
+            sa_hz: 0.0,
+            cycle_seconds: 0.0,
+            cycle_phase: 0.0,
+            onsets: [0.0; MAX_DRONE_STRINGS],
+            plucking: false,
+        }
+    }
+}
+
 /// One telemetry frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Telemetry {
@@ -99,6 +147,10 @@ pub struct Telemetry {
     /// The string bank in use was built with fewer modes than asked, to fit one voice in the
     /// CPU budget (`engine/string_bank.rs`).
     pub modes_fitted: Option<ModesFitted>,
+    /// How the drone bank's strings were tuned (`None`: not a drone).
+    pub drone_tuning: Option<DroneTuning>,
+    /// The watched voice's strings and cycle when it is a drone.
+    pub drone: Option<DroneView>,
     /// The bank in use is a preview (a small model while the full one builds).
     pub preview: bool,
     /// Heap bytes of the engine's coupling tensors (`Engine::memory_bytes`).
@@ -142,6 +194,8 @@ impl Default for Telemetry {
             governor_reduced: 0,
             governor_shed: 0,
             modes_fitted: None,
+            drone_tuning: None,
+            drone: None,
             preview: false,
             memory_bytes: 0,
             rebuilding: false,

@@ -13,7 +13,7 @@ use crate::format::{format_value, parse_value, typing_unit};
 use crate::params::{NoetherParams, Slot};
 use egui::{Layout, Ui, Vec2};
 use nice_plug::prelude::*;
-use noether_core::engine::{ParamId, ParamKind};
+use noether_core::engine::{ModelKind, ParamId, ParamKind};
 
 /// Width of the label column (points).
 pub const LABEL_W: f32 = 150.0;
@@ -27,11 +27,36 @@ struct Section {
     title: &'static str,
     params: &'static [ParamId],
     open: bool,
-    /// The models it is shown for: `Some(false)` plates only, `Some(true)` strings only.
-    strings: Option<bool>,
+    /// The models it is shown for.
+    models: Models,
 }
 
-const SECTIONS: [Section; 7] = {
+/// Which models a section is shown for (its rows are also filtered by what the model reads).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Models {
+    /// Every model.
+    All,
+    /// The plates.
+    Plates,
+    /// The single strings (sitar, tanpura).
+    Strings,
+    /// The tanpura drone.
+    Drone,
+}
+
+impl Models {
+    /// Whether `model` is one of them.
+    fn show(self, model: ModelKind) -> bool {
+        match self {
+            Models::All => true,
+            Models::Plates => model.is_plate(),
+            Models::Strings => model.is_string(),
+            Models::Drone => model.is_drone(),
+        }
+    }
+}
+
+const SECTIONS: [Section; 8] = {
     use ParamId::*;
     [
         Section {
@@ -53,7 +78,7 @@ const SECTIONS: [Section; 7] = {
                 Inharmonicity,
             ],
             open: true,
-            strings: None,
+            models: Models::All,
         },
         Section {
             title: "Strike",
@@ -70,19 +95,36 @@ const SECTIONS: [Section; 7] = {
                 VelocityCurve,
             ],
             open: true,
-            strings: Some(false),
+            models: Models::Plates,
         },
         Section {
             title: "Pluck",
             params: &[PluckPosition, PluckAmplitude, VelocityCurve],
             open: true,
-            strings: Some(true),
+            models: Models::Strings,
+        },
+        Section {
+            title: "Drone",
+            params: &[
+                DroneTuning,
+                DroneStrings,
+                Jivari,
+                DroneCycle,
+                DroneSync,
+                DroneBeats,
+                DronePattern,
+                DroneVariation,
+                DroneLatch,
+                VelocityCurve,
+            ],
+            open: true,
+            models: Models::Drone,
         },
         Section {
             title: "Damping",
             params: &[DampingScale, ReleaseT60, DampingA, DampingB, DampingC0],
             open: true,
-            strings: None,
+            models: Models::All,
         },
         Section {
             title: "Bridge",
@@ -93,7 +135,7 @@ const SECTIONS: [Section; 7] = {
                 ContactAlpha,
             ],
             open: true,
-            strings: None,
+            models: Models::All,
         },
         Section {
             title: "Pickups and output",
@@ -112,7 +154,7 @@ const SECTIONS: [Section; 7] = {
                 ModWheelDepth,
             ],
             open: false,
-            strings: None,
+            models: Models::All,
         },
         Section {
             title: "Quality",
@@ -130,7 +172,7 @@ const SECTIONS: [Section; 7] = {
                 MemoryCap,
             ],
             open: false,
-            strings: None,
+            models: Models::All,
         },
     ]
 };
@@ -271,7 +313,7 @@ fn enum_menu(ui: &mut Ui, setter: &ParamSetter, p: &IntParam, names: &[&str], ke
 pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter) {
     // What the instrument reads decides the rows (the table's `reads` column).
     let values = params.plain_values();
-    let string = values.model().is_string();
+    let model = values.model();
     // One slider width for every row: what the panel leaves after the label and value
     // columns (and the collapsing header's indent).
     let indent = ui.spacing().indent;
@@ -280,7 +322,7 @@ pub fn parameter_panels(ui: &mut Ui, params: &NoetherParams, setter: &ParamSette
     ui.spacing_mut().slider_width = slider_w;
     ui.spacing_mut().interact_size.x = VALUE_W;
     for section in &SECTIONS {
-        if section.strings.is_some_and(|strings| strings != string) {
+        if !section.models.show(model) {
             continue;
         }
         let rows: Vec<ParamId> = section

@@ -15,6 +15,9 @@
 //!   50 % → 3 % of the length. Positions rebuild the voice bank (a short pause in new notes).
 //! - Decay: damping scale log 8 → 0.05 and release T60 log 0.2 s → 20 s.
 //! - Size: size, log over its whole range (plates: a rescale, strings: a new grid).
+//!
+//! The tanpura drone has its own four: Buzz (the jivari 12 → 3.5 mm), Pace (the cycle period
+//! log 8 → 2 s), Decay (as above) and Looseness (the human variation 0 → 1).
 
 use super::grid::apply_gesture;
 use crate::params::NoetherParams;
@@ -127,10 +130,16 @@ fn plate_hardness(striker: Striker) -> (&'static str, &'static str, Vec<Target>)
     }
 }
 
-/// The macros' names, tooltips and targets for a string model (`string`) or a plate struck by
-/// `striker`.
-pub fn macros(string: bool, striker: Striker) -> [(&'static str, &'static str, Vec<Target>); 4] {
+/// The macros' names, tooltips and targets for `model` (a plate struck by `striker`).
+pub fn macros(
+    model: ModelKind,
+    striker: Striker,
+) -> [(&'static str, &'static str, Vec<Target>); 4] {
     use ParamId::*;
+    if model.is_drone() {
+        return drone_macros();
+    }
+    let string = model.is_string();
     let size = Size.info();
     [
         if string {
@@ -175,15 +184,42 @@ pub fn macros(string: bool, striker: Striker) -> [(&'static str, &'static str, V
     ]
 }
 
+/// The drone's macros: the jivari's buzz, the cycle's pace, the decay and the hand's looseness.
+fn drone_macros() -> [(&'static str, &'static str, Vec<Target>); 4] {
+    use ParamId::*;
+    [
+        (
+            "Buzz",
+            "jivari 12 mm → 3.5 mm from the bridge's edge: the string grazes nearer the edge and buzzes brighter (rebuilds the drone; a new position is tuned by ear once, then kept)",
+            vec![lin(Jivari, 12.0, 3.5)],
+        ),
+        (
+            "Pace",
+            "cycle period 8 s → 2 s (log), from the next cycle",
+            vec![log(DroneCycle, 8.0, 2.0)],
+        ),
+        (
+            "Decay",
+            "damping scale 8 → 0.05 and release T60 0.2 s → 20 s (both log)",
+            vec![log(DampingScale, 8.0, 0.05), log(ReleaseT60, 0.2, 20.0)],
+        ),
+        (
+            "Looseness",
+            "human variation 0 → 1: the player's hand moves the plucks by up to 20 ms and their strength by up to 20 %",
+            vec![lin(DroneVariation, 0.0, 1.0)],
+        ),
+    ]
+}
+
 /// Draws the macro sliders in a row, `width` points for each.
 pub fn macro_row(ui: &mut Ui, params: &NoetherParams, setter: &ParamSetter, width: f32) {
-    let string = ModelKind::from_index(params.slot(ParamId::Model).value() as usize).is_string();
+    let model = ModelKind::from_index(params.slot(ParamId::Model).value() as usize);
     let striker = Striker::from_values(
         params.slot(ParamId::Exciter).value(),
         params.slot(ParamId::MalletHead).value(),
     );
     ui.spacing_mut().slider_width = width;
-    for (name, help, targets) in macros(string, striker) {
+    for (name, help, targets) in macros(model, striker) {
         let first = targets[0];
         let mut t = first.position(params.slot(first.id).value());
         ui.label(egui::RichText::new(name).strong())
@@ -215,9 +251,9 @@ mod tests {
     /// position (within 1e-4: f32 logarithms; the head, an integer, at its own positions).
     #[test]
     fn targets_round_trip_inside_the_ranges() {
-        for string in [false, true] {
+        for model in ModelKind::ALL {
             for striker in STRIKERS {
-                for (name, _, targets) in macros(string, striker) {
+                for (name, _, targets) in macros(model, striker) {
                     for g in targets {
                         let info = g.id.info();
                         for t in [0.0, 0.25, 1.0] {
@@ -230,7 +266,7 @@ mod tests {
             }
         }
         // Harder is shorter: the pulse's hardness macro at 1 gives 0.5 ms.
-        let hard = &macros(false, Striker::Pulse)[0].2[0];
+        let hard = &macros(ModelKind::Gong, Striker::Pulse)[0].2[0];
         assert!((hard.value(1.0) - 5e-4).abs() < 1e-7);
     }
 
@@ -248,13 +284,13 @@ mod tests {
         ];
         for (exciter, head, striker, id) in cases {
             assert_eq!(Striker::from_values(exciter, head), striker);
-            let (name, _, targets) = &macros(false, striker)[0];
+            let (name, _, targets) = &macros(ModelKind::Gong, striker)[0];
             assert_eq!(*name, "Hardness");
             assert_eq!(targets.len(), 1);
             assert_eq!(targets[0].id, id);
         }
         // Soft to hard: a shorter pulse, a harder felt, a later head (metal last).
-        let at = |s: Striker, t: f32| macros(false, s)[0].2[0].value(t);
+        let at = |s: Striker, t: f32| macros(ModelKind::Gong, s)[0].2[0].value(t);
         assert!(at(Striker::Pulse, 1.0) < at(Striker::Pulse, 0.0));
         assert_eq!(
             (
@@ -268,7 +304,7 @@ mod tests {
         assert_eq!(heads[at(Striker::FactoryMallet, 1.0) as usize], "metal");
         // The strings' Hardness is the pluck position whatever the plate exciter says.
         for striker in STRIKERS {
-            assert_eq!(macros(true, striker)[0].2[0].id, PluckPosition);
+            assert_eq!(macros(ModelKind::Sitar, striker)[0].2[0].id, PluckPosition);
         }
     }
 
@@ -286,7 +322,7 @@ mod tests {
                 v.set(ParamId::Exciter, exciter).unwrap();
                 v.set(ParamId::MalletHead, head).unwrap();
                 let striker = Striker::from_values(exciter, head);
-                for (name, _, targets) in macros(model.is_string(), striker) {
+                for (name, _, targets) in macros(model, striker) {
                     for g in targets {
                         assert!(
                             v.reads(g.id),

@@ -10,6 +10,7 @@
 //! through the engine's GUI command queue; preset loads set every parameter through the setter
 //! as one gesture per parameter.
 
+mod drone_view;
 pub mod grid;
 pub mod keyboard;
 pub mod macros;
@@ -29,7 +30,7 @@ use meters::EnergyHistory;
 use nice_plug::context::gui::GuiContext;
 use nice_plug::prelude::*;
 use nice_plug_egui::{Frame, NiceEguiApp};
-use noether_core::engine::{EventKind, FitReason, ParamId, Telemetry, MODEL_NAMES};
+use noether_core::engine::{DroneTuning, EventKind, FitReason, ParamId, Telemetry, MODEL_NAMES};
 use preset_bar::PresetBar;
 use std::sync::Arc;
 use std::time::Duration;
@@ -165,6 +166,22 @@ impl EditorApp {
                 )
                 .on_hover_text(why);
             }
+            match t.drone_tuning {
+                Some(tuning @ (DroneTuning::RootOnly | DroneTuning::Tensions { asked: true })) => {
+                    ui.label(
+                        RichText::new("Tuning by ear: reduced")
+                            .color(Color32::from_rgb(255, 170, 40)),
+                    )
+                    .on_hover_text(format!("The drone was {tuning}."));
+                }
+                Some(DroneTuning::Tensions { asked: false }) if t.preview => {
+                    ui.label(RichText::new("Tuning by ear…")).on_hover_text(
+                        "The drone plays tuned by its tensions while the worker tunes \
+                             every string by ear (done once per drone, then kept)",
+                    );
+                }
+                _ => {}
+            }
         });
         if let Some(e) = &self.build_error {
             ui.colored_label(
@@ -231,6 +248,16 @@ impl EditorApp {
         let rest = self.views_h - (ui.min_rect().height() + 60.0);
         let spectrum_h = (rest / 1.7).clamp(110.0, 320.0);
         ui.add_space(6.0);
+        if let Some(view) = self.telemetry.drone {
+            // The drone: its strings and its cycle, in the place of the spectrum and the
+            // displacement of one string.
+            ui.horizontal(|ui| {
+                ui.label(RichText::new("Strings and cycle of").strong());
+                self.watch_selector(ui);
+            });
+            drone_view::drone(ui, &view, Vec2::new(width, 1.7 * spectrum_h + 4.0));
+            return;
+        }
         ui.horizontal(|ui| {
             ui.label(RichText::new("Modes and displacement of").strong());
             self.watch_selector(ui);

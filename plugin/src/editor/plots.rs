@@ -4,7 +4,8 @@
 
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, StrokeKind, Ui, Vec2};
 
-fn frame(ui: &mut Ui, size: Vec2) -> (Rect, egui::Painter) {
+/// A dark framed area of `size` points for a plot, and its painter.
+pub(super) fn frame(ui: &mut Ui, size: Vec2) -> (Rect, egui::Painter) {
     let (response, painter) = ui.allocate_painter(size, Sense::hover());
     let rect = response.rect;
     painter.rect_filled(rect, 2.0, Color32::from_gray(18));
@@ -17,7 +18,8 @@ fn frame(ui: &mut Ui, size: Vec2) -> (Rect, egui::Painter) {
     (rect, painter)
 }
 
-fn small_font() -> FontId {
+/// The plots' label font.
+pub(super) fn small_font() -> FontId {
     FontId::proportional(11.0)
 }
 

@@ -12,8 +12,8 @@
 use super::draw::Draw;
 use super::SoakConfig;
 use noether_core::engine::{
-    plate_sim_rate, Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams, PARAMS,
-    SCHEME_NAMES,
+    plate_sim_rate, Engine, ModelKind, ParamId, ParamInfo, ParamValues, SharedParams,
+    DRONE_MIN_SIM_RATE, PARAMS, SCHEME_NAMES,
 };
 use noether_core::ParamError;
 
@@ -50,8 +50,10 @@ pub(super) fn signature(e: &Engine) -> Option<Signature> {
 }
 
 /// The parameters of a burst's final step (the signature and the quality).
-const FINAL: [ParamId; 7] = [
+const FINAL: [ParamId; 9] = [
     ParamId::Model,
+    ParamId::DroneEar,
+    ParamId::Jivari,
     ParamId::SimRate,
     ParamId::BandLimit,
     ParamId::Polyphony,
@@ -60,11 +62,24 @@ const FINAL: [ParamId; 7] = [
     ParamId::Scheme,
 ];
 
+/// Strings of the largest drone (each stepped every step).
+const DRONE_MAX_STRINGS: usize = 6;
+
+/// The jivari (mm) of a drone burst: at 30 mm the drone's strings need only 49 modes.
+const DRONE_JIVARI: f32 = 30.0;
+
+/// The modes of each string of a drone at [`DRONE_JIVARI`] (`engine::drone_modes`).
+const DRONE_STRING_MODES: usize = 49;
+
 /// Whether a change of `p` needs a new bank when the parameters hold `v`: the table's flag,
-/// and for the string models the size (the string's length sets the grid; see
-/// [`ParamValues::rebuild_key`]). The driver automates every other parameter each block.
+/// for the string models the size (the string's length sets the grid) and for the drone the
+/// root key (where it is tuned; see [`ParamValues::rebuild_key`]). The driver automates every
+/// other parameter each block.
 pub fn needs_rebuild(p: &ParamInfo, v: &ParamValues) -> bool {
-    p.rebuild || (p.id == ParamId::Size && !v.model().is_plate())
+    let model = v.model();
+    p.rebuild
+        || (p.id == ParamId::Size && model.is_string())
+        || (p.id == ParamId::RootKey && model.is_drone())
 }
 
 /// One intermediate step of a burst: each rebuild parameter outside the final step's set is
@@ -121,6 +136,14 @@ pub fn finish(
         .log_between(band_range.min as f64, band_range.max as f64)
         .round();
     let kind = ModelKind::from_index(model);
+    if kind.is_drone() {
+        // The drone runs at least at its floor; it steps every string's modes, so its rate is
+        // kept within the budget for the largest drone, one voice.
+        let cap = cfg.budget / (DRONE_MAX_STRINGS * DRONE_STRING_MODES) as f64;
+        sim_rate = sim_rate.min(cap).max(DRONE_MIN_SIM_RATE).round();
+        modes = 4;
+        poly = 1;
+    }
     let scheme = d.value(info(ParamId::Scheme));
     // The rate the bank will run at (the parameters are `f32`).
     let rate_of = |sim_rate: f64, band: f64| {
@@ -158,6 +181,10 @@ pub fn finish(
     if !kind.is_plate() {
         params.set(ParamId::Size, d.value(info(ParamId::Size)))?;
     }
+    // The drone is never tuned by ear in the soak (seconds of the worker's time per build)
+    // and keeps its coarsest grid.
+    params.set(ParamId::DroneEar, 0.0)?;
+    params.set(ParamId::Jivari, DRONE_JIVARI)?;
     params.set(ParamId::Scheme, scheme)?;
     params.set(ParamId::Modes, modes as f32)?;
     params.set(ParamId::InPlaneModes, in_plane as f32)?;

@@ -94,7 +94,7 @@ pub struct SoakSummary {
     /// Longest re-activation (main thread; builds the bank).
     pub activation_wall: Duration,
     /// Blocks played by each model, in [`ModelKind::ALL`] order.
-    pub model_blocks: [u64; 5],
+    pub model_blocks: [u64; ModelKind::ALL.len()],
     /// Worst block over all lengths.
     pub worst: WorstBlock,
     /// Worst block of at least 256 samples (shorter blocks are dominated by per-call costs).

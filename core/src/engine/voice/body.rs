@@ -14,12 +14,13 @@
 //! Threads: built on the worker thread (inside a bank); every method runs on the audio thread
 //! or the voice's job without allocating, in time bounded by the chunk.
 
+use super::drone::DroneVoice;
 use super::mapping::{Physics, VOICE_CEILING};
 use super::plate::PlateVoice;
 use super::strike::{commit_plate, commit_string, PendingStrike};
 use super::string::StringVoice;
 use crate::engine::params::ParamValues;
-use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
+use crate::engine::telemetry::{DroneView, VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::models::source::EnergyTerms;
 
 /// The physics of one voice, as the engine drives it (see the module documentation).
@@ -98,6 +99,11 @@ pub(crate) trait VoiceBody {
         freq: &mut [f32; SPECTRUM_MODES],
         amp: &mut [f32; SPECTRUM_MODES],
     );
+    /// Fills `view` with the drone's strings and cycle; `false` (the default) for a model
+    /// that is not a drone.
+    fn drone_view(&mut self, _view: &mut DroneView) -> bool {
+        false
+    }
     // End of the interface: the engine reaches a model through nothing else.
 }
 
@@ -256,5 +262,62 @@ impl VoiceBody for StringVoice {
             freq[j] = (params.omega(j + 1) / std::f64::consts::TAU) as f32;
             amp[j] = q[j].abs() as f32;
         }
+    }
+}
+
+impl VoiceBody for DroneVoice {
+    fn retune(&mut self, p: &Physics, key: u8, note: f32, released: bool) -> bool {
+        DroneVoice::retune(self, p, key, note, released)
+    }
+
+    fn strike(&mut self, s: &PendingStrike, v: ParamValues, _bright: f32) -> bool {
+        DroneVoice::strike(self, s, v)
+    }
+
+    fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        DroneVoice::run(self, left, right, gain)
+    }
+
+    fn reset(&mut self) {
+        DroneVoice::reset(self);
+    }
+
+    /// The drone is not touched by the player's hand: pressure is ignored.
+    fn set_pressure(&mut self, _pressure: f64) {}
+
+    fn price(&self) -> f64 {
+        self.price
+    }
+
+    /// The cycle is an excitation still acting while it plucks: the voice does not end in a
+    /// quiet moment between two plucks.
+    fn exciting(&self) -> bool {
+        self.plucking()
+    }
+
+    fn energy_terms(&self) -> EnergyTerms {
+        DroneVoice::energy_terms(self)
+    }
+
+    fn take_cap_hits(&mut self) -> u64 {
+        DroneVoice::take_cap_hits(self)
+    }
+
+    fn model_info(&self) -> VoiceModelInfo {
+        DroneVoice::model_info(self)
+    }
+
+    fn snapshot(
+        &mut self,
+        disp: &mut [f32; SNAPSHOT_POINTS],
+        freq: &mut [f32; SPECTRUM_MODES],
+        amp: &mut [f32; SPECTRUM_MODES],
+    ) {
+        DroneVoice::snapshot(self, disp, freq, amp);
+    }
+
+    fn drone_view(&mut self, view: &mut DroneView) -> bool {
+        DroneVoice::drone_view(self, view);
+        true
     }
 }

@@ -28,6 +28,8 @@ pub(crate) struct Physics {
     /// The highest price (s per step) a new note's model may have (the CPU governor's cap,
     /// `engine/governor.rs`; infinite while the governor is off or the note fits).
     pub price_cap: f64,
+    /// The host's tempo (beats per minute; `None`: none given), for the drone's cycle.
+    pub tempo: Option<f64>,
 }
 
 /// Pitch ratio of `key` to the root key: `2^((p(key) - root + bend + note)/12) · a4/440`,

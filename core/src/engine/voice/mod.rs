@@ -26,6 +26,7 @@
 
 mod above;
 mod body;
+mod drone;
 mod hand_placement;
 mod mallet;
 mod mapping;
@@ -43,6 +44,8 @@ pub(crate) use mapping::Physics;
 pub use mapping::VOICE_CEILING;
 
 pub(crate) use above::AboveModes;
+pub(crate) use drone::DroneVoice;
+pub use drone::DRONE_FORCE_REF;
 pub(crate) use hand_placement::hand_radius;
 pub use hand_placement::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
 pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
@@ -55,10 +58,11 @@ pub(crate) use body::VoiceBody;
 use modulation::NoteOverrides;
 use strike::PendingStrike;
 
-/// The model of a voice: a plate or a string, each a [`VoiceBody`].
+/// The model of a voice: a plate, a string or the drone, each a [`VoiceBody`].
 pub(crate) enum VoiceModel {
     Plate(Box<PlateVoice>),
     String(Box<StringVoice>),
+    Drone(Box<DroneVoice>),
 }
 
 impl VoiceModel {
@@ -67,6 +71,7 @@ impl VoiceModel {
         match self {
             Self::Plate(pv) => pv.as_mut(),
             Self::String(sv) => sv.as_mut(),
+            Self::Drone(dv) => dv.as_mut(),
         }
     }
 
@@ -75,6 +80,7 @@ impl VoiceModel {
         match self {
             Self::Plate(pv) => pv.as_ref(),
             Self::String(sv) => sv.as_ref(),
+            Self::Drone(dv) => dv.as_ref(),
         }
     }
 }
@@ -309,6 +315,12 @@ impl Voice {
     /// Newton cap hits since the last call (strings; 0 for plates).
     pub fn take_cap_hits(&mut self) -> u64 {
         self.model.body().take_cap_hits()
+    }
+
+    /// Fills `view` with the drone's strings and cycle (`false`: not a drone). Audio thread,
+    /// no allocation.
+    pub fn drone_view(&mut self, view: &mut super::telemetry::DroneView) -> bool {
+        self.model.body().drone_view(view)
     }
 
     /// Writes the displacement snapshot (m), the lowest mode frequencies (Hz) and `|q_s|`.

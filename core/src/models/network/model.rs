@@ -31,7 +31,7 @@ enum ResolvedOutput {
 /// [`StringNetwork::step`], which never allocate and do bounded work (the bridge's Newton
 /// iterations are capped, each string's contact solve is capped per node), so they may run
 /// on the audio thread. Owned by one thread at a time.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct StringNetwork {
     /// The strings, in the order of the config.
     strings: Vec<StiffString>,

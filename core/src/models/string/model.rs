@@ -72,7 +72,7 @@ pub struct StringConfig {
 /// [`StiffString::step`] / `process`, which never allocate and do bounded work (one or two
 /// DSTs, at most `NEWTON_CAP` iterations per obstacle node), so they may run on the audio
 /// thread. Owned by one thread at a time.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct StiffString {
     /// Validated parameters (read-only after build).
     params: StringParams,

@@ -23,6 +23,7 @@ use std::sync::Arc;
 ///
 /// Built on the control thread (plans the DST, allocates scratch); `synthesis` / `analysis` run
 /// on the audio thread without allocating.
+#[derive(Clone)]
 pub struct ModalMap {
     /// The DST-I plan of length `N - 1`.
     dst: Arc<dyn Dst1<f64>>,

@@ -110,6 +110,12 @@ impl SaMap {
     pub fn anchors(&self) -> &[f64] {
         &self.semitones
     }
+
+    /// The anchor keys and the corrections at them (`anchor · strings + string`), as
+    /// [`Self::from_parts`] takes them back.
+    pub fn parts(&self) -> (&[f64], &[f64]) {
+        (&self.semitones, &self.corrections)
+    }
 }
 
 #[cfg(test)]

@@ -8,9 +8,11 @@ pub mod key_map;
 pub mod spec;
 pub mod tune;
 pub mod tuning;
+pub mod tuning_cache;
 
 pub use cycle::{Pattern, PluckCycle, PluckEvent};
 pub use instrument::Tanpura;
 pub use key_map::SaMap;
 pub use spec::TanpuraSpec;
 pub use tuning::{Metal, TanpuraString, Tuning};
+pub use tuning_cache::{tune_cached, TunedStrings, TuningSource};

@@ -69,6 +69,7 @@ fn both(v: &ParamValues) -> (Box<PlateVoice>, ScenePlate) {
         bend: 0.0,
         tuning: KeyTuning::default(),
         price_cap: f64::INFINITY,
+        tempo: None,
     };
     let key = v.get(ParamId::RootKey) as u8;
     pv.begin(&p, key);

@@ -1,0 +1,171 @@
+//! The drone voices of a bank: the tanpura drone as a scene's `[tanpura]` table
+//! (`engine/model_spec.rs`), tuned by ear at its Sa (the root key) and at the anchor keys
+//! [`DRONE_ANCHORS`] around it, so that every key within an octave of the root sounds its Sa
+//! in tune (`models::tanpura::key_map`), built once and copied into every voice.
+//!
+//! **Cost.** Each tuning by ear simulates every string plucked alone for two passes of a
+//! second (`models::tanpura::tune`), so a new drone takes its worker about 18 s (five
+//! tunings of four strings of 480 modes at 48 kHz). The tuning is saved in the modal cache's
+//! directory (`models::tanpura::tuning_cache`), so the same drone builds again in
+//! milliseconds. Meanwhile a live host hears the drone's preview ([`drone_preview`]): the
+//! same strings tuned by their tensions alone, within a few cents, played until the tuned
+//! bank arrives.
+//!
+//! **Price.** Under the CPU governor the worker times one voice playing the root key
+//! (`engine/cost_trial.rs`); the drone's mode count is the user's, never reduced (fewer
+//! modes move the jivari's grid node and the tuning with it), so a drone over its share is
+//! reported by the governor's counts, not thinned.
+//!
+//! Worker thread (allocates).
+
+use super::cost_trial::{time_note, Jobs};
+pub use super::drone_tuning::{DroneTuning, DRONE_TUNING_BUDGET};
+use super::governor::PRIOR_SECONDS_PER_UNIT;
+use super::model_spec::drone_spec;
+use super::params::ParamValues;
+use super::voice::{DroneVoice, Voice, VoiceModel};
+use crate::error::ParamError;
+use crate::modal::circular::default_cache_dir;
+use crate::models::tanpura::tune::{LISTEN_TO, TUNE_PASSES};
+use crate::models::tanpura::{Tanpura, TanpuraSpec};
+
+/// The keys, in semitones from the root, at which the worker tunes the drone by ear besides
+/// the root itself; the retune interpolates between them (`models::tanpura::key_map`: within
+/// 0.153 cents from -12 to +12 semitones, `tests/strings/tanpura.rs`).
+pub const DRONE_ANCHORS: [f64; 4] = [-12.0, -6.0, 6.0, 12.0];
+
+/// How `spec` is tuned within [`DRONE_TUNING_BUDGET`]: by ear at every anchor, at the root
+/// only, or by the tensions (module doc). Any thread.
+fn tuning_plan(spec: &TanpuraSpec) -> DroneTuning {
+    let asked = spec.tune_by_ear;
+    if !asked {
+        DroneTuning::Tensions { asked }
+    } else if tuning_seconds(spec, 1 + DRONE_ANCHORS.len()) <= DRONE_TUNING_BUDGET {
+        DroneTuning::ByEar
+    } else if tuning_seconds(spec, 1) <= DRONE_TUNING_BUDGET {
+        DroneTuning::RootOnly
+    } else {
+        DroneTuning::Tensions { asked }
+    }
+}
+
+/// The prior CPU time (s) of tuning `spec` by ear at `keys` keys: every string plucked alone
+/// for `TUNE_PASSES` passes of `LISTEN_TO` s of the whole network, at the prior price of a step.
+fn tuning_seconds(spec: &TanpuraSpec, keys: usize) -> f64 {
+    let sim_seconds = (TUNE_PASSES * spec.strings * keys) as f64 * LISTEN_TO;
+    let step = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * (spec.strings * spec.modes) as f64;
+    sim_seconds * spec.sim_rate * step
+}
+
+/// Prior work units of one drone step per string mode: the bridge solve evaluates every
+/// string's contact about three times a step (two Newton iterations and the commit) on top of
+/// the modal passes (docs/performance.md, "The tanpura drone": 0.41 of a core for 4 × 480
+/// modes at 48 kHz, 8.5 µs a step, 2.2 units of [`PRIOR_SECONDS_PER_UNIT`] per string mode).
+const UNITS_PER_STRING_MODE: f64 = 2.5;
+
+/// The drone voices of a bank for the parameters `v` run as `jobs` says, `voices_n` copies of
+/// one drone, priced by a trial when `share` says the CPU governor is on. Worker thread.
+pub(super) fn drone_voices(
+    v: &ParamValues,
+    jobs: Jobs,
+    voices_n: usize,
+    share: Option<f64>,
+) -> Result<(Vec<Voice>, DroneTuning), ParamError> {
+    let mut spec = drone_spec(v, jobs.sim);
+    let tuning = tuning_plan(&spec);
+    let anchors: &[f64] = match tuning {
+        DroneTuning::ByEar => &DRONE_ANCHORS,
+        DroneTuning::RootOnly => &[],
+        DroneTuning::Tensions { .. } => {
+            spec.tune_by_ear = false;
+            &[]
+        }
+    };
+    let dir = default_cache_dir();
+    let (drone, _) = Tanpura::build_cached(&spec, anchors, Some(&dir))?;
+    Ok((voices_of(drone, v, jobs, voices_n, share)?, tuning))
+}
+
+/// [`drone_voices`] tuned by the strings' tensions alone (no tuning by ear): the preview a live
+/// host plays while the tuned drone builds. Worker thread; milliseconds.
+pub(super) fn drone_preview(
+    v: &ParamValues,
+    jobs: Jobs,
+    voices_n: usize,
+) -> Result<Vec<Voice>, ParamError> {
+    let mut spec = drone_spec(v, jobs.sim);
+    spec.tune_by_ear = false;
+    let drone = Tanpura::build(&spec)?;
+    voices_of(drone, v, jobs, voices_n, None)
+}
+
+/// `voices_n` voices of `drone`, priced (module doc). Worker thread.
+fn voices_of(
+    drone: Tanpura,
+    v: &ParamValues,
+    jobs: Jobs,
+    voices_n: usize,
+    share: Option<f64>,
+) -> Result<Vec<Voice>, ParamError> {
+    let string_modes: usize = drone
+        .network()
+        .strings()
+        .iter()
+        .map(|s| s.params().modes())
+        .sum();
+    let prior = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * string_modes as f64;
+    let sa = drone.sa();
+    let voice = |price| {
+        Voice::new(VoiceModel::Drone(Box::new(DroneVoice::new(
+            drone.clone(),
+            sa,
+            price,
+        ))))
+    };
+    let mut price = prior;
+    if share.is_some() {
+        let mut trial = voice(prior);
+        if let Some(load) = time_note(&mut trial, v, jobs) {
+            price = load.price;
+        }
+    }
+    Ok((0..voices_n).map(|_| voice(price)).collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The factory drone (4 × 480 modes at 48 kHz) is tuned at every anchor within the budget
+    /// (the estimate, 18.4 s, is the measured 14-18 s of its build); at 96 kHz only its root
+    /// fits; six strings of 2000 modes at 400 kHz (the quality parameters' top) are tuned by
+    /// their tensions, so no build waits minutes; off stays off.
+    #[test]
+    fn the_tuning_fits_its_budget() {
+        let factory = TanpuraSpec {
+            modes: 480,
+            sim_rate: 48_000.0,
+            ..TanpuraSpec::at(138.59)
+        };
+        let estimate = tuning_seconds(&factory, 1 + DRONE_ANCHORS.len());
+        assert!((15.0..20.0).contains(&estimate), "{estimate} s");
+        assert_eq!(tuning_plan(&factory), DroneTuning::ByEar);
+        let fast = TanpuraSpec {
+            sim_rate: 96_000.0,
+            ..factory.clone()
+        };
+        assert_eq!(tuning_plan(&fast), DroneTuning::RootOnly);
+        let top = TanpuraSpec {
+            strings: 6,
+            modes: 2000,
+            sim_rate: 400_000.0,
+            ..factory.clone()
+        };
+        assert_eq!(tuning_plan(&top), DroneTuning::Tensions { asked: true });
+        let off = TanpuraSpec {
+            tune_by_ear: false,
+            ..factory
+        };
+        assert_eq!(tuning_plan(&off), DroneTuning::Tensions { asked: false });
+    }
+}

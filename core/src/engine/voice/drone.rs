@@ -1,0 +1,281 @@
+//! A drone voice: the tanpura's strings on their moving bridge, plucked in the drone's cycle
+//! ([`Tanpura`]). The key held is Sa: a note retunes every string by its tension (with the
+//! corrections the worker measured by ear at anchor keys), its velocity sets the plucks'
+//! strength, and its release stops the cycle and lets the strings ring out at the release
+//! rate; with the latch on, a released drone keeps plucking until the latch is turned off or
+//! another note takes the voice.
+//!
+//! The output is each string's force on the bridge (N), panned as the strings lie across the
+//! bridge (`models::network::StringNetwork::bridge_force_mix`), over [`DRONE_FORCE_REF`].
+//!
+//! Threads: built on the worker thread (inside a bank); everything else runs on the audio
+//! thread without allocating.
+
+use super::mapping::{pitch_ratio, release_sigma, Physics};
+use super::strike::PendingStrike;
+use crate::engine::model_spec::{DRONE_MAX_STRENGTH_JITTER, DRONE_MAX_TIMING_JITTER_MS};
+use crate::engine::params::{ParamId, ParamValues};
+use crate::engine::telemetry::{
+    DroneView, VoiceModelInfo, DRONE_VIEW_POINTS, MAX_DRONE_STRINGS, SNAPSHOT_POINTS,
+    SPECTRUM_MODES,
+};
+use crate::models::source::EnergyTerms;
+use crate::models::tanpura::instrument::MAX_STRENGTH;
+use crate::models::tanpura::{Pattern, Tanpura};
+
+/// Output normalisation of the drone (N of bridge force at full scale, before the gain): the
+/// factory drone at velocity 100 peaks near -10 dBFS with its preset's gain of 0 dB
+/// (`tests/engine/drone.rs`).
+pub const DRONE_FORCE_REF: f64 = 0.25;
+
+/// The drone's cycle period (s) for the values `v` and the host's tempo `tempo` (bpm): the
+/// `drone_cycle` parameter, or with `drone_sync` on and a tempo, `drone_beats` beats of it
+/// within the cycle's range (0.5 to 30 s). Any thread.
+pub fn drone_cycle_seconds(v: &ParamValues, tempo: Option<f64>) -> f64 {
+    match tempo {
+        Some(bpm) if v.index_of(ParamId::DroneSync) == 1 => {
+            let range = ParamId::DroneCycle.info();
+            (f64::from(v.get(ParamId::DroneBeats)) * 60.0 / bpm)
+                .clamp(f64::from(range.min), f64::from(range.max))
+        }
+        _ => f64::from(v.get(ParamId::DroneCycle)),
+    }
+}
+
+/// The index of the string the editor's displacement view shows: the first middle Sa.
+const WATCHED_STRING: usize = 1;
+
+/// A drone voice's model.
+pub(crate) struct DroneVoice {
+    /// The strings, the bridge and the cycle.
+    pub model: Tanpura,
+    /// Whether the cycle plucks: the note is held, sustained or latched.
+    plucking: bool,
+    /// Newton cap hits of the bridge solve already counted into the engine's total.
+    cap_hits_seen: u64,
+    /// The cycle's parameters last applied (period s, pattern index, variation), to retime
+    /// the cycle only when they change.
+    cycle: (f32, usize, f32),
+    /// The drone's own pluck amplitude (m; strength 1).
+    pluck_amplitude: f64,
+    /// Sa (Hz) the drone was built and tuned at: the root key's pitch, within the drone's
+    /// range (`engine/model_spec.rs`).
+    sa: f64,
+    /// The CPU governor's price of one step (s): measured by the worker's cost trial under
+    /// the governor, else the prior estimate (`engine/governor.rs`). Set on the worker.
+    pub price: f64,
+}
+
+impl DroneVoice {
+    /// Wraps a built drone tuned at Sa `sa` Hz (worker thread), at rest, priced at `price` s
+    /// per step.
+    pub fn new(mut model: Tanpura, sa: f64, price: f64) -> Self {
+        let model_amplitude = model.pluck_amplitude();
+        model.reset();
+        model.set_plucking(false);
+        Self {
+            model,
+            plucking: false,
+            cap_hits_seen: 0,
+            cycle: (f32::NAN, 0, f32::NAN),
+            pluck_amplitude: model_amplitude,
+            sa,
+            price,
+        }
+    }
+
+    /// Retunes to `key` (Sa) with the note's tuning `note`, the damping scale and, when
+    /// `released` and not latched, the release: plucking stops and every mode decays at
+    /// least at the release rate. A changed cycle period, pattern or variation takes over at
+    /// the next cycle (`Tanpura::set_cycle`). `false`: refused. Audio thread.
+    pub fn retune(&mut self, p: &Physics, key: u8, note: f32, released: bool) -> bool {
+        let v = &p.values;
+        let latched = v.index_of(ParamId::DroneLatch) == 1;
+        let release = released && !latched;
+        let floor = if release { release_sigma(v) } else { 0.0 };
+        let damping = v.get(ParamId::DampingScale) as f64;
+        self.plucking = !release;
+        self.model.set_plucking(self.plucking);
+        let cycle = (
+            drone_cycle_seconds(v, p.tempo) as f32,
+            v.index_of(ParamId::DronePattern),
+            v.get(ParamId::DroneVariation),
+        );
+        if cycle != self.cycle {
+            let variation = f64::from(cycle.2);
+            // Within `set_cycle`'s ranges by the parameters' (its refusal would allocate).
+            let period = ParamId::DroneCycle.info();
+            if !((period.min..=period.max).contains(&cycle.0) && (0.0..=1.0).contains(&cycle.2)) {
+                return false;
+            }
+            let pattern = if cycle.1 == 1 {
+                Pattern::Even
+            } else {
+                Pattern::Classic
+            };
+            let ok = self
+                .model
+                .set_cycle(
+                    f64::from(cycle.0),
+                    pattern,
+                    DRONE_MAX_TIMING_JITTER_MS * variation,
+                    DRONE_MAX_STRENGTH_JITTER * variation,
+                )
+                .is_ok();
+            if !ok {
+                return false;
+            }
+            self.cycle = cycle;
+        }
+        // The key's pitch over the built Sa: `pitch_ratio` is relative to the root key, whose
+        // pitch `440 · 2^((root - 69)/12)` the drone was built at unless that lies outside
+        // its range.
+        let root_hz = 440.0 * ((f64::from(v.get(ParamId::RootKey)) - 69.0) / 12.0).exp2();
+        let ratio = pitch_ratio(p, key, note) * root_hz / self.sa;
+        // `try_retune` refuses without allocating (an unmapped key of a key table is NaN).
+        self.model.try_retune(ratio, damping, floor).is_ok()
+    }
+
+    /// Commits a note-on: a fresh note starts the cycle from its first pluck (the voice was
+    /// reset), a repeated one keeps the cycle where it is; either way the plucks' amplitude
+    /// becomes the `pluck_amplitude` parameter times the note's velocity after the curve and
+    /// the wheel (`s.amount`): a strength of that over the drone's own amplitude (at most
+    /// [`MAX_STRENGTH`]). Audio thread.
+    pub fn strike(&mut self, s: &PendingStrike, v: ParamValues) -> bool {
+        let amplitude = f64::from(v.get(ParamId::PluckAmplitude));
+        // At most 2 (velocity 1, the wheel's full factor) times 5 mm over 1 mm, within the
+        // drone's largest strength; checked here, as `set_strength`'s refusal would allocate.
+        let strength = s.amount * amplitude / self.pluck_amplitude;
+        if !(0.0..=MAX_STRENGTH).contains(&strength) {
+            return false;
+        }
+        self.model.set_strength(strength).is_ok()
+    }
+
+    /// Advances `left.len()` steps, adding `gain ·` the bridge-force mix (N; the bank's gain
+    /// carries `1 /` [`DRONE_FORCE_REF`]). Audio thread.
+    pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
+        let g = gain;
+        let ceiling = super::VOICE_CEILING;
+        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
+            self.model.step();
+            let [a, b] = self
+                .model
+                .network()
+                .bridge_force_mix(crate::models::network::BridgeInstrument::gains(&self.model));
+            let (a, b) = (g * a, g * b);
+            if !(a.abs() <= ceiling && b.abs() <= ceiling) {
+                return false;
+            }
+            *l += a as f32;
+            *r += b as f32;
+        }
+        true
+    }
+
+    /// Puts every string and the bridge at rest, the cycle at its first pluck, plucking off.
+    pub fn reset(&mut self) {
+        self.model.reset();
+        self.cap_hits_seen = 0;
+        self.plucking = false;
+        self.model.set_plucking(false);
+    }
+
+    /// Whether the cycle still plucks (the voice must not end between plucks).
+    pub fn plucking(&self) -> bool {
+        self.plucking
+    }
+
+    /// The network's energy terms (J).
+    pub fn energy_terms(&self) -> EnergyTerms {
+        self.model.network().energy_terms()
+    }
+
+    /// Newton cap hits of the bridge solve since the last call.
+    pub fn take_cap_hits(&mut self) -> u64 {
+        let total = self.model.network().stats().cap_hits;
+        let d = total.saturating_sub(self.cap_hits_seen);
+        self.cap_hits_seen = total;
+        d
+    }
+
+    /// Per string the modes, the highest mode of the highest string, the simulation rate.
+    pub fn model_info(&self) -> VoiceModelInfo {
+        let strings = self.model.network().strings();
+        let top = strings
+            .iter()
+            .map(|s| {
+                let p = s.params();
+                p.omega(p.modes())
+            })
+            .fold(0.0, f64::max);
+        VoiceModelInfo {
+            n_phi: strings.first().map_or(0, |s| s.params().modes()) as u32,
+            n_psi: 0,
+            top_mode_hz: (top / std::f64::consts::TAU) as f32,
+            sim_rate: (1.0 / self.model.network().h()) as f32,
+            ..VoiceModelInfo::default()
+        }
+    }
+
+    /// The watched string's displacement (m) and its lowest modes (Hz, `|q_j|`).
+    pub fn snapshot(
+        &mut self,
+        disp: &mut [f32; SNAPSHOT_POINTS],
+        freq: &mut [f32; SPECTRUM_MODES],
+        amp: &mut [f32; SPECTRUM_MODES],
+    ) {
+        let strings = self.model.network().strings();
+        let Some(s) = strings.get(WATCHED_STRING).or(strings.first()) else {
+            return;
+        };
+        let params = s.params();
+        let q = s.modal_displacement();
+        let length = params.length;
+        for (p, d) in disp.iter_mut().enumerate() {
+            let x = (p + 1) as f64 / (SNAPSHOT_POINTS + 1) as f64 * length;
+            // The modal sum at x (O(N) per point, SNAPSHOT_POINTS points).
+            *d = q
+                .iter()
+                .enumerate()
+                .map(|(j, &qj)| qj * params.mode_shape(j + 1, x))
+                .sum::<f64>() as f32;
+        }
+        for j in 0..q.len().min(SPECTRUM_MODES) {
+            freq[j] = (params.omega(j + 1) / std::f64::consts::TAU) as f32;
+            amp[j] = q[j].abs() as f32;
+        }
+    }
+
+    /// Fills `view`: every string's note, energy and displacement (the grid's, sampled at
+    /// [`DRONE_VIEW_POINTS`] points), Sa, and where the cycle is. Audio thread, no
+    /// allocation: one inverse transform per string (`O(N log N)`).
+    pub fn drone_view(&mut self, view: &mut DroneView) {
+        let n = self.model.network().strings().len().min(MAX_DRONE_STRINGS);
+        view.strings = n as u8;
+        view.sa_hz = (self.sa * self.model.ratio()) as f32;
+        view.cycle_seconds = self.model.cycle_seconds() as f32;
+        view.cycle_phase = self.model.cycle_phase() as f32;
+        view.plucking = self.plucking;
+        for i in 0..n {
+            view.ratio[i] = self.model.ratios()[i] as f32;
+            view.onsets[i] = self.model.onset(i) as f32;
+            view.energy[i] = self.model.network().string_energy(i).total() as f32;
+            let u = self.model.string_grid_displacement(i);
+            let intervals = u.len() + 1;
+            for (p, d) in view.displacement[i].iter_mut().enumerate() {
+                let xi = p as f64 / (DRONE_VIEW_POINTS - 1) as f64 * intervals as f64;
+                let k = (xi.floor() as usize).min(intervals - 1);
+                let w = xi - k as f64;
+                let at = |j: usize| {
+                    if j == 0 || j >= intervals {
+                        0.0
+                    } else {
+                        u[j - 1]
+                    }
+                };
+                *d = ((1.0 - w) * at(k) + w * at(k + 1)) as f32;
+            }
+        }
+    }
+}
