@@ -170,6 +170,7 @@ const SECTIONS: [Section; 8] = {
                 Threads,
                 CpuBudget,
                 MemoryCap,
+                DroneEar,
             ],
             open: false,
             models: Models::All,
