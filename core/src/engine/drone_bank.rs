@@ -114,11 +114,9 @@ fn voices_of(
         .map(|s| s.params().modes())
         .sum();
     let prior = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * string_modes as f64;
-    let sa = drone.sa();
     let voice = |price| {
         Voice::new(VoiceModel::Drone(Box::new(DroneVoice::new(
             drone.clone(),
-            sa,
             price,
         ))))
     };

@@ -25,10 +25,10 @@ use crate::models::string::{Readout, ValetteLosses};
 use crate::models::tanpura::{Pattern, TanpuraSpec, Tuning};
 
 /// Largest onset shift of the drone's cycle at full human variation, ms.
-pub(crate) const DRONE_MAX_TIMING_JITTER_MS: f64 = 20.0;
+const DRONE_MAX_TIMING_JITTER_MS: f64 = 20.0;
 
 /// Largest relative change of a drone pluck's strength at full human variation.
-pub(crate) const DRONE_MAX_STRENGTH_JITTER: f64 = 0.2;
+const DRONE_MAX_STRENGTH_JITTER: f64 = 0.2;
 
 /// Steel density used to derive a string's diameter from its linear density (air losses).
 const STRING_STEEL_DENSITY: f64 = 7850.0;
@@ -285,11 +285,34 @@ pub fn drone_modes(v: &ParamValues) -> usize {
         .max(for_jivari)
 }
 
-/// The Sa (Hz) the drone of `v` is built and tuned at: the root key's pitch
-/// (`440 · 2^((root - 69)/12)`), within [`DRONE_SA_MIN`] to [`DRONE_SA_MAX`]. Any thread.
+/// The root key's pitch in 12-TET at A4 = 440 Hz (`440 · 2^((root - 69)/12)`, Hz): where
+/// `voice::mapping::pitch_ratio` is 1 at the 440 Hz reference. Any thread.
+pub(crate) fn root_hz(v: &ParamValues) -> f64 {
+    440.0 * ((f64::from(v.get(ParamId::RootKey)) - 69.0) / 12.0).exp2()
+}
+
+/// The Sa (Hz) the drone of `v` is built and tuned at: the root key's pitch ([`root_hz`]),
+/// within [`DRONE_SA_MIN`] to [`DRONE_SA_MAX`]. Any thread.
 pub(crate) fn drone_sa(v: &ParamValues) -> f64 {
-    let root = f64::from(v.get(ParamId::RootKey));
-    (440.0 * ((root - 69.0) / 12.0).exp2()).clamp(DRONE_SA_MIN, DRONE_SA_MAX)
+    root_hz(v).clamp(DRONE_SA_MIN, DRONE_SA_MAX)
+}
+
+/// The drone's cycle pattern in `v` (`drone_pattern`: 0 classic, 1 even). Any thread.
+pub(crate) fn drone_pattern(v: &ParamValues) -> Pattern {
+    if v.index_of(ParamId::DronePattern) == 1 {
+        Pattern::Even
+    } else {
+        Pattern::Classic
+    }
+}
+
+/// The cycle's variation at the `drone_variation` value `variation` (0 to 1): the largest
+/// onset shift (ms) and the largest relative change of a pluck's strength. Any thread.
+pub(crate) fn drone_jitter(variation: f64) -> (f64, f64) {
+    (
+        DRONE_MAX_TIMING_JITTER_MS * variation,
+        DRONE_MAX_STRENGTH_JITTER * variation,
+    )
 }
 
 /// The instrument's tanpura drone for `v` at `sim_rate` (Hz; at least
@@ -299,7 +322,8 @@ pub(crate) fn drone_sa(v: &ParamValues) -> f64 {
 /// dimensions at the scene's defaults. Not validated here (the drone's builder validates).
 /// Worker thread.
 pub(crate) fn drone_spec(v: &ParamValues, sim_rate: f64) -> TanpuraSpec {
-    let variation = v.get(ParamId::DroneVariation) as f64;
+    let (timing_jitter_ms, strength_jitter) =
+        drone_jitter(f64::from(v.get(ParamId::DroneVariation)));
     TanpuraSpec {
         tuning: Tuning::ALL[v.index_of(ParamId::DroneTuning).min(Tuning::ALL.len() - 1)],
         strings: v.index_of(ParamId::DroneStrings),
@@ -310,13 +334,9 @@ pub(crate) fn drone_spec(v: &ParamValues, sim_rate: f64) -> TanpuraSpec {
         // of the drone at 48 kHz.
         sim_rate: sim_rate.max(DRONE_MIN_SIM_RATE).round(),
         cycle_seconds: v.get(ParamId::DroneCycle) as f64,
-        pattern: if v.index_of(ParamId::DronePattern) == 1 {
-            Pattern::Even
-        } else {
-            Pattern::Classic
-        },
-        timing_jitter_ms: DRONE_MAX_TIMING_JITTER_MS * variation,
-        strength_jitter: DRONE_MAX_STRENGTH_JITTER * variation,
+        pattern: drone_pattern(v),
+        timing_jitter_ms,
+        strength_jitter,
         jivari_mm: vec![v.get(ParamId::Jivari) as f64],
         tune_by_ear: v.index_of(ParamId::DroneEar) == 1,
         ..TanpuraSpec::at(drone_sa(v))

@@ -13,7 +13,7 @@
 
 use super::mapping::{pitch_ratio, release_sigma, Physics};
 use super::strike::PendingStrike;
-use crate::engine::model_spec::{DRONE_MAX_STRENGTH_JITTER, DRONE_MAX_TIMING_JITTER_MS};
+use crate::engine::model_spec::{drone_jitter, drone_pattern, root_hz};
 use crate::engine::params::{ParamId, ParamValues};
 use crate::engine::telemetry::{
     DroneView, VoiceModelInfo, DRONE_VIEW_POINTS, MAX_DRONE_STRINGS, SNAPSHOT_POINTS,
@@ -24,8 +24,8 @@ use crate::models::tanpura::instrument::MAX_STRENGTH;
 use crate::models::tanpura::{Pattern, Tanpura};
 
 /// Output normalisation of the drone (N of bridge force at full scale, before the gain): the
-/// factory drone at velocity 100 peaks near -10 dBFS with its preset's gain of 0 dB
-/// (`tests/engine/drone.rs`).
+/// factory drone at velocity 100 peaks at -6.2 dBFS over a 30 s drone with a gain of 0 dB
+/// (its preset adds 2 dB; `tests/engine/preset_levels.rs` holds the levels).
 pub const DRONE_FORCE_REF: f64 = 0.25;
 
 /// The drone's cycle period (s) for the values `v` and the host's tempo `tempo` (bpm): the
@@ -55,31 +55,22 @@ pub(crate) struct DroneVoice {
     cap_hits_seen: u64,
     /// The cycle's parameters last applied (period s, pattern index, variation), to retime
     /// the cycle only when they change.
-    cycle: (f32, usize, f32),
-    /// The drone's own pluck amplitude (m; strength 1).
-    pluck_amplitude: f64,
-    /// Sa (Hz) the drone was built and tuned at: the root key's pitch, within the drone's
-    /// range (`engine/model_spec.rs`).
-    sa: f64,
+    cycle: (f32, Pattern, f32),
     /// The CPU governor's price of one step (s): measured by the worker's cost trial under
     /// the governor, else the prior estimate (`engine/governor.rs`). Set on the worker.
     pub price: f64,
 }
 
 impl DroneVoice {
-    /// Wraps a built drone tuned at Sa `sa` Hz (worker thread), at rest, priced at `price` s
-    /// per step.
-    pub fn new(mut model: Tanpura, sa: f64, price: f64) -> Self {
-        let model_amplitude = model.pluck_amplitude();
+    /// Wraps a built drone (worker thread), at rest, priced at `price` s per step.
+    pub fn new(mut model: Tanpura, price: f64) -> Self {
         model.reset();
         model.set_plucking(false);
         Self {
             model,
             plucking: false,
             cap_hits_seen: 0,
-            cycle: (f32::NAN, 0, f32::NAN),
-            pluck_amplitude: model_amplitude,
-            sa,
+            cycle: (f32::NAN, Pattern::Classic, f32::NAN),
             price,
         }
     }
@@ -98,28 +89,23 @@ impl DroneVoice {
         self.model.set_plucking(self.plucking);
         let cycle = (
             drone_cycle_seconds(v, p.tempo) as f32,
-            v.index_of(ParamId::DronePattern),
+            drone_pattern(v),
             v.get(ParamId::DroneVariation),
         );
         if cycle != self.cycle {
-            let variation = f64::from(cycle.2);
             // Within `set_cycle`'s ranges by the parameters' (its refusal would allocate).
             let period = ParamId::DroneCycle.info();
             if !((period.min..=period.max).contains(&cycle.0) && (0.0..=1.0).contains(&cycle.2)) {
                 return false;
             }
-            let pattern = if cycle.1 == 1 {
-                Pattern::Even
-            } else {
-                Pattern::Classic
-            };
+            let (timing_jitter_ms, strength_jitter) = drone_jitter(f64::from(cycle.2));
             let ok = self
                 .model
                 .set_cycle(
                     f64::from(cycle.0),
-                    pattern,
-                    DRONE_MAX_TIMING_JITTER_MS * variation,
-                    DRONE_MAX_STRENGTH_JITTER * variation,
+                    cycle.1,
+                    timing_jitter_ms,
+                    strength_jitter,
                 )
                 .is_ok();
             if !ok {
@@ -130,8 +116,7 @@ impl DroneVoice {
         // The key's pitch over the built Sa: `pitch_ratio` is relative to the root key, whose
         // pitch `440 · 2^((root - 69)/12)` the drone was built at unless that lies outside
         // its range.
-        let root_hz = 440.0 * ((f64::from(v.get(ParamId::RootKey)) - 69.0) / 12.0).exp2();
-        let ratio = pitch_ratio(p, key, note) * root_hz / self.sa;
+        let ratio = pitch_ratio(p, key, note) * root_hz(v) / self.model.sa();
         // `try_retune` refuses without allocating (an unmapped key of a key table is NaN).
         self.model.try_retune(ratio, damping, floor).is_ok()
     }
@@ -145,7 +130,7 @@ impl DroneVoice {
         let amplitude = f64::from(v.get(ParamId::PluckAmplitude));
         // At most 2 (velocity 1, the wheel's full factor) times 5 mm over 1 mm, within the
         // drone's largest strength; checked here, as `set_strength`'s refusal would allocate.
-        let strength = s.amount * amplitude / self.pluck_amplitude;
+        let strength = s.amount * amplitude / self.model.pluck_amplitude();
         if !(0.0..=MAX_STRENGTH).contains(&strength) {
             return false;
         }
@@ -253,7 +238,7 @@ impl DroneVoice {
     pub fn drone_view(&mut self, view: &mut DroneView) {
         let n = self.model.network().strings().len().min(MAX_DRONE_STRINGS);
         view.strings = n as u8;
-        view.sa_hz = (self.sa * self.model.ratio()) as f32;
+        view.sa_hz = (self.model.sa() * self.model.ratio()) as f32;
         view.cycle_seconds = self.model.cycle_seconds() as f32;
         view.cycle_phase = self.model.cycle_phase() as f32;
         view.plucking = self.plucking;

@@ -67,8 +67,9 @@ pub fn cache_file_name(spec: &CircularPlateSpec) -> String {
     )
 }
 
-/// 64-bit hash (FNV-1a over 8-byte words, then a final avalanche); not cryptographic.
-fn hash_words(bytes: &[u8]) -> u64 {
+/// 64-bit hash (FNV-1a over 8-byte words, then a final avalanche); not cryptographic. Also
+/// names the drone's tuning files (`models::tanpura::tuning_cache`).
+pub(crate) fn hash_words(bytes: &[u8]) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut chunks = bytes.chunks_exact(8);
     for c in &mut chunks {
@@ -179,7 +180,8 @@ fn decode(spec: &CircularPlateSpec, fp: u64, bytes: &[u8]) -> Result<CouplingTen
 }
 
 /// Writes `bytes` to `path` atomically (temporary file in the same directory, then rename).
-fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Also writes the drone's tuning files (`models::tanpura::tuning_cache`).
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir)?;
     }

@@ -19,8 +19,9 @@ use super::key_map::SaMap;
 use super::spec::TanpuraSpec;
 use super::tune::tension_scales;
 use crate::error::ParamError;
+use crate::modal::circular::cache::{hash_words, write_atomic};
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Version of the file layout and of the tuning method; bump it when either changes.
 pub const TUNING_CACHE_VERSION: u32 = 1;
@@ -109,15 +110,11 @@ fn tuning_key(spec: &TanpuraSpec) -> TanpuraSpec {
 /// The cache file's name: a hash of the spec's tuning key ([`tuning_key`]) and the anchors
 /// as they are written.
 pub fn file_name(spec: &TanpuraSpec, anchors: &[f64]) -> String {
-    let key = toml::to_string(&tuning_key(spec)).unwrap_or_default();
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let words = key
-        .bytes()
-        .chain(anchors.iter().flat_map(|a| a.to_bits().to_le_bytes()));
-    for b in words {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
+    let mut key = toml::to_string(&tuning_key(spec))
+        .unwrap_or_default()
+        .into_bytes();
+    key.extend(anchors.iter().flat_map(|a| a.to_bits().to_le_bytes()));
+    let h = hash_words(&key);
     format!("tanpura-tuning-{h:016x}-v{TUNING_CACHE_VERSION}.toml")
 }
 
@@ -165,12 +162,7 @@ fn write(
         spec: tuning_key(spec),
     };
     let text = toml::to_string(&f).map_err(std::io::Error::other)?;
-    if let Some(d) = path.parent() {
-        std::fs::create_dir_all(d)?;
-    }
-    let tmp: PathBuf = path.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path)
+    write_atomic(path, text.as_bytes())
 }
 
 #[cfg(test)]
