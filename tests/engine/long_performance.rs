@@ -110,3 +110,41 @@ fn other_presets_sound_the_same_after_a_performance() {
         assert_unchanged(stem, &run(stem, &[], SECONDS_OTHERS));
     }
 }
+
+/// A new engine's very first note sounds as the same note played after silence, bit for bit,
+/// and its attack is whole: the resampler starts at the time origin that silence returns it
+/// to (`Resampler::reanchor`). Before, a new resampler's origin put the note's first `half`
+/// simulation samples left of its first output's kernel, so the first note came 8 host samples
+/// early with its attack cut on the 40 N gong, and an offline render changed with the number
+/// of silent blocks its caller happened to process while waiting for the bank.
+#[test]
+fn the_first_note_sounds_as_a_note_after_silence() {
+    use noether::engine::EventKind;
+    use noether_testkit::performance::{engine, play, Timed, BLOCK, HOST_RATE};
+    let key = 60;
+    let note = [Timed {
+        at: 0,
+        kind: EventKind::NoteOn {
+            key,
+            velocity: VELOCITY,
+        },
+    }];
+    let samples = (0.2 * HOST_RATE) as u64;
+    let first = play(&mut engine(preset_params("gong-40N", &[])), &note, samples);
+    let onset = first
+        .iter()
+        .position(|&x| x != 0.0)
+        .expect("the note sounds");
+    assert!(onset > 0, "the attack starts after the first output sample");
+    for silent_blocks in [1u64, 3] {
+        let mut e = engine(preset_params("gong-40N", &[]));
+        let silence = play(&mut e, &[], silent_blocks * BLOCK as u64);
+        assert!(silence.iter().all(|&x| x == 0.0));
+        let later = play(&mut e, &note, samples);
+        assert!(
+            later == first,
+            "after {silent_blocks} silent blocks: onset {:?} against {onset}",
+            later.iter().position(|&x| x != 0.0)
+        );
+    }
+}

@@ -105,7 +105,8 @@ impl Resampler {
             table,
             hist: [vec![0.0; cap], vec![0.0; cap]],
             mask: cap - 1,
-            written: 0,
+            // The time origin every silent resampler of this ratio shares (`reanchor`).
+            written: 2 * half as u64 + 1,
             pos: 0.0,
             max_out,
             zero_run: usize::MAX / 2,
@@ -142,12 +143,16 @@ impl Resampler {
         (self.max_out as f64 * self.ratio).ceil() as usize + 2 * self.half + 2
     }
 
-    /// Clears the history (silence) and the time origin. No allocation.
+    /// Clears the history (silence) and puts the time origin where [`Self::reanchor`] puts
+    /// it: a new or reset resampler and one that has been silent play the next sound alike,
+    /// with the steady state's latency (an origin of no pushed inputs would put a sound's
+    /// first `half` input samples left of the first output's kernel centre, cutting them from
+    /// the attack). No allocation.
     pub fn reset(&mut self) {
         for h in &mut self.hist {
             h.fill(0.0);
         }
-        self.written = 0;
+        self.written = 2 * self.half as u64 + 1;
         self.pos = 0.0;
         self.zero_run = usize::MAX / 2;
     }
@@ -270,7 +275,8 @@ mod tests {
             (16_000.0, 192_000.0, 2500.0),
         ] {
             let mut rs = Resampler::new(fs_in, fs_out, 64);
-            let lat = rs.latency_input() as f64 / fs_in;
+            // The first pushed input follows the 2 half + 1 zeros of the time origin.
+            let lat = -(rs.latency_input() as f64 + 1.0) / fs_in;
             let mut n_in = 0usize;
             let mut worst: f64 = 0.0;
             let (mut inl, mut inr) = (vec![0.0f32; rs.max_input()], vec![0.0f32; rs.max_input()]);
