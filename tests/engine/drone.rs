@@ -6,7 +6,7 @@
 
 use assert_no_alloc::assert_no_alloc;
 use noether::analysis::fundamental::fundamental_near;
-use noether::engine::{Engine, Event, EventKind, ParamId, SharedParams};
+use noether::engine::{Engine, EngineHandle, Event, EventKind, ParamId, SharedParams};
 use noether::models::source::RenderSource;
 use noether::models::tanpura::{Tanpura, TanpuraSpec};
 use noether_testkit::presets::preset_params;
@@ -18,8 +18,9 @@ const BLOCK: usize = 128;
 /// The preset's root key, C#3: Sa = 138.59 Hz.
 const ROOT: u8 = 49;
 
-/// The factory drone with `sets`, the human variation off, one voice on the audio thread.
-fn drone(sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>) {
+/// The factory drone with `sets`, the human variation off, one voice on the audio thread;
+/// its parameters and its handle.
+fn drone(sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>, EngineHandle) {
     let mut all = vec![
         (ParamId::DroneVariation, 0.0),
         (ParamId::Threads, 1.0),
@@ -27,9 +28,9 @@ fn drone(sets: &[(ParamId, f32)]) -> (Engine, Arc<SharedParams>) {
     ];
     all.extend_from_slice(sets);
     let params = preset_params("tanpura-drone", &all);
-    let (mut e, _h) = Engine::new(params.clone());
+    let (mut e, h) = Engine::new(params.clone());
     assert!(e.activate(RATE, BLOCK).unwrap().is_none());
-    (e, params)
+    (e, params, h)
 }
 
 /// What a run of blocks gave: the left output, and the voice's total energy after each block
@@ -102,7 +103,7 @@ fn sa_band(x: &[f64], sa: f64) -> f64 {
 fn the_held_key_is_sa() {
     let sa = 440.0 * ((f64::from(ROOT) - 69.0) / 12.0).exp2();
     for k in [-5i32, 0, 7] {
-        let (mut e, _) = drone(&[]);
+        let (mut e, _, _) = drone(&[]);
         let key = (i32::from(ROOT) + k) as u8;
         let t = run(&mut e, &[(0, note_on(key, 0.8))], blocks(8.0));
         let want = sa * (f64::from(k) / 12.0).exp2();
@@ -136,7 +137,7 @@ fn the_held_key_is_sa() {
 #[test]
 fn the_cycle_plucks_on_its_pattern() {
     for (pattern, onsets) in [(0.0f32, [0.0, 0.8, 1.6, 2.4]), (1.0, [0.0, 1.0, 2.0, 3.0])] {
-        let (mut e, _) = drone(&[(ParamId::DronePattern, pattern)]);
+        let (mut e, _, _) = drone(&[(ParamId::DronePattern, pattern)]);
         let t = run(&mut e, &[(0, note_on(ROOT, 0.8))], blocks(7.9));
         let found = pluck_blocks(&t.energy);
         let want: Vec<f64> = onsets
@@ -169,7 +170,7 @@ fn the_latch_keeps_the_drone_and_the_release_ends_it() {
         (0, note_on(ROOT, 0.8)),
         (off, EventKind::NoteOff { key: ROOT }),
     ];
-    let (mut e, _) = drone(&[(ParamId::ReleaseT60, 0.5)]);
+    let (mut e, _, _) = drone(&[(ParamId::ReleaseT60, 0.5)]);
     let t = run(&mut e, &events, blocks(6.0));
     let after: Vec<usize> = pluck_blocks(&t.energy)
         .into_iter()
@@ -182,14 +183,25 @@ fn the_latch_keeps_the_drone_and_the_release_ends_it() {
         "the released drone still sounds"
     );
 
-    let (mut e, params) = drone(&[(ParamId::DroneLatch, 1.0)]);
+    let (mut e, params, mut handle) = drone(&[(ParamId::DroneLatch, 1.0)]);
     let t = run(&mut e, &events, blocks(6.0));
     let late = pluck_blocks(&t.energy);
     assert!(
         late.iter().any(|&b| b.abs_diff(blocks(4.0)) <= 1),
         "latched: no pluck at 4 s ({late:?})"
     );
+    // The editor reads the voice as latched, not released (the newest telemetry after a
+    // tenth of a second more).
+    let newest = |e: &mut Engine, handle: &mut EngineHandle| {
+        while handle.telemetry().is_some() {}
+        run(e, &[], blocks(0.1));
+        handle.telemetry().expect("telemetry").voices[0]
+    };
+    let v = newest(&mut e, &mut handle);
+    assert!(v.active && !v.held && v.latched, "{v:?}");
     params.set(ParamId::DroneLatch, 0.0).unwrap();
+    let v = newest(&mut e, &mut handle);
+    assert!(v.active && !v.held && !v.latched, "unlatched: {v:?}");
     let t = run(&mut e, &[], blocks(8.0));
     assert!(
         pluck_blocks(&t.energy).is_empty() || t.energy.last() == Some(&0.0),
@@ -205,7 +217,7 @@ fn the_latch_keeps_the_drone_and_the_release_ends_it() {
 #[test]
 fn velocity_sets_the_plucks_strength() {
     let peak = |v: f32| {
-        let (mut e, _) = drone(&[]);
+        let (mut e, _, _) = drone(&[]);
         let t = run(&mut e, &[(0, note_on(ROOT, v))], blocks(3.0));
         t.left.iter().fold(0.0f64, |m, x| m.max(x.abs()))
     };
@@ -223,7 +235,7 @@ fn velocity_sets_the_plucks_strength() {
 #[test]
 fn the_cycle_follows_the_hosts_tempo() {
     let sync = [(ParamId::DroneSync, 1.0), (ParamId::DroneBeats, 8.0)];
-    let (mut e, _) = drone(&sync);
+    let (mut e, _, _) = drone(&sync);
     e.set_host_tempo(Some(240.0));
     let first = run(&mut e, &[(0, note_on(ROOT, 0.8))], blocks(1.0));
     e.set_host_tempo(Some(120.0));
@@ -246,7 +258,7 @@ fn the_cycle_follows_the_hosts_tempo() {
         );
     }
     // No tempo from the host: the 4 s period of the preset.
-    let (mut e, _) = drone(&sync);
+    let (mut e, _, _) = drone(&sync);
     let t = run(&mut e, &[(0, note_on(ROOT, 0.8))], blocks(2.0));
     let second = pluck_blocks(&t.energy)[0] as f64 * BLOCK as f64 / RATE;
     assert!(

@@ -238,10 +238,12 @@ impl Engine {
                     continue;
                 }
                 let e = v.energy_terms();
+                let held = v.held || v.sustained;
                 t.voices[i] = VoiceTelemetry {
                     active: true,
                     key: v.key,
-                    held: v.held || v.sustained,
+                    held,
+                    latched: !held && v.model.body_ref().plays_on(),
                     energy: e,
                     age: ((self.frame - v.started) as f64 / self.host_rate) as f32,
                     model: v.model_info(),

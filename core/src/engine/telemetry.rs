@@ -27,6 +27,8 @@ pub struct VoiceTelemetry {
     pub key: u8,
     /// Whether the key is still held (or sustained).
     pub held: bool,
+    /// Whether the voice, its key released, plays on by itself (a latched drone).
+    pub latched: bool,
     /// Energy terms in J (kinetic, linear potential, nonlinear: in-plane energy of a plate or
     /// contact energy of a string; dissipated and work since the note started).
     pub energy: EnergyTerms,

@@ -135,7 +135,11 @@ pub fn energy_meters(ui: &mut Ui, t: &Telemetry, history: &EnergyHistory, width:
             format!(
                 "{} {}",
                 note_name(i32::from(v.key)),
-                if v.held { "held" } else { "released" }
+                match (v.held, v.latched) {
+                    (true, _) => "held",
+                    (false, true) => "latched",
+                    (false, false) => "released",
+                }
             ),
             font.clone(),
             slot_colour(i),

@@ -78,6 +78,12 @@ pub(crate) trait VoiceBody {
         self.energy_terms().total()
     }
 
+    /// Whether the model plays on by itself after its key is released (a latched drone's
+    /// cycle keeps plucking). Default: no.
+    fn plays_on(&self) -> bool {
+        false
+    }
+
     /// Mallet contacts begun since the last call. Default: none.
     fn take_impacts(&mut self) -> u64 {
         0
@@ -319,5 +325,9 @@ impl VoiceBody for DroneVoice {
     fn drone_view(&mut self, view: &mut DroneView) -> bool {
         DroneVoice::drone_view(self, view);
         true
+    }
+
+    fn plays_on(&self) -> bool {
+        self.plucking()
     }
 }
