@@ -167,3 +167,73 @@ fn the_sympathetic_exchange_converges_without_aliasing() {
         "{coarse:e} against {fine:e}"
     );
 }
+
+/// The chikari (two, Sa' and Sa'' over Sa = 277.18 Hz; no taraf, to keep the test short): a
+/// stroke on the chikari alone, the played string left still, sets each ringing at its note,
+/// within 1 cent measured from its first partial after the attack (tuned by ear as every
+/// string is; a stroke whose chikari part is ignored leaves them still and fails here). When
+/// the stroke is on the played string instead, the chikari answer through the bridge: Sa''
+/// with about 1/270 of its struck energy at 0.5 s, Sa' with about 60 % (its first partial is
+/// the played Sa's second: the chikari ring along with the played string, as on a sitar);
+/// each struck chikari holds more than it does answering (the upper Sa by at least 1.2 times,
+/// Sa'' by at least 100). The power balance closes to 1e-11 of the energy. A fourth chikari
+/// is refused, naming the field.
+#[test]
+fn a_chikari_stroke_sounds_the_chikari_at_their_notes() {
+    let sa = 277.18;
+    let mut spec = SitarSpec::at(sa, sa);
+    spec.taraf = 0;
+    spec.chikari = 2;
+    spec.phrase = vec![SitarStroke {
+        strength: 0.0,
+        chikari: 1.0,
+        ..SitarStroke::at(0.0, sa)
+    }];
+    assert_eq!(spec.targets(), vec![sa, 2.0 * sa, 4.0 * sa]);
+    assert!(spec.is_chikari(1) && spec.is_chikari(2) && !spec.is_chikari(0));
+    let fs = spec.sim_rate;
+    let at = |t: f64| (t * fs) as u64;
+    let mut sitar = Sitar::build(&spec).unwrap();
+    let b0 = sitar.network().energy_terms().balance();
+    let cents = |f: f64, target: f64| 1200.0 * (f / target).log2();
+    let upper = cents(
+        super::crossings::first_partial(&mut sitar, Sitar::steps, 1, fs, at(0.1), at(0.3)),
+        2.0 * sa,
+    );
+    let top = cents(
+        super::crossings::first_partial(&mut sitar, Sitar::steps, 2, fs, at(0.3), at(0.5)),
+        4.0 * sa,
+    );
+    let net = sitar.network();
+    let struck: Vec<f64> = (1..=2).map(|i| net.string_energy(i).total()).collect();
+    let e = net.energy_terms();
+    let balance = (e.balance() - b0).abs() / e.total().max(f64::MIN_POSITIVE);
+
+    spec.phrase = vec![SitarStroke::at(0.0, sa)];
+    let mut played = Sitar::build(&spec).unwrap();
+    for _ in 0..at(0.5) {
+        played.step();
+    }
+    let answered: Vec<f64> = (1..=2)
+        .map(|i| played.network().string_energy(i).total())
+        .collect();
+    eprintln!(
+        "chikari: Sa' {upper:+.3} c, Sa'' {top:+.3} c; energy at 0.5 s struck {:.3e} and \
+         {:.3e} J, answering the played string {:.3e} and {:.3e} J; balance {balance:.2e}",
+        struck[0], struck[1], answered[0], answered[1]
+    );
+    for (name, c) in [("Sa'", upper), ("Sa''", top)] {
+        assert!(c.abs() < 1.0, "{name}: {c:+.3} cents");
+    }
+    assert!(
+        struck[0] > 1.2 * answered[0],
+        "Sa': {struck:?} {answered:?}"
+    );
+    assert!(
+        struck[1] > 100.0 * answered[1],
+        "Sa'': {struck:?} {answered:?}"
+    );
+    assert!(balance < 1e-11, "balance {balance:e}");
+    spec.chikari = 4;
+    assert_eq!(spec.validate().unwrap_err().field, "sitar.chikari");
+}

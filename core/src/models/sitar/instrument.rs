@@ -1,7 +1,8 @@
-//! [`Sitar`]: the played string and its taraf on the bridges, tuned by ear, one note plucked.
+//! [`Sitar`]: the played string, its taraf and its chikari on the bridges, tuned by ear, one
+//! note or a phrase plucked.
 
 use super::phrase::{phrase_steps, StrokeSteps};
-use super::spec::SitarSpec;
+use super::spec::{SitarSpec, CHIKARI_PAN};
 use crate::error::ParamError;
 use crate::models::network::{BridgeInstrument, StringNetwork};
 use crate::models::string::params::Stiffness;
@@ -13,10 +14,12 @@ use crate::models::tanpura::SaMap;
 /// Amplitude of the pluck that tunes a taraf string by ear, m.
 const TARAF_TUNING_PLUCK: f64 = 3e-4;
 
-/// A sitar: the played string (string 0, with the curved jawari of the main bridge) and its
-/// taraf (strings 1 and up) on the bridges' shared modes. The played string plays the phrase
-/// (or, without one, is plucked at the first step); the taraf answers through the bridges. The output is the strings' forces on the
-/// bridges, the played string in the centre and the taraf spread across the image.
+/// A sitar: the played string (string 0, with the curved jawari of the main bridge), its
+/// taraf (strings 1 to `taraf`) and its chikari (the last strings, on the main bridge's
+/// jawari too) on the bridges' shared modes. The played string plays the phrase (or, without
+/// one, is plucked at the first step) and the phrase's chikari strokes pluck the chikari; the
+/// taraf answers through the bridges. The output is the strings' forces on the bridges, the
+/// played string in the centre, the chikari beside it and the taraf spread across the image.
 ///
 /// Built on the control thread ([`Sitar::build`]); stepped without allocating.
 #[derive(Debug)]
@@ -35,6 +38,8 @@ pub struct Sitar {
     sounding: Option<StrokeSteps>,
     /// The played string's pluck at full strength.
     pluck: TrianglePluck,
+    /// The chikari's strings (indices) and their plucks at full strength.
+    chikari: Vec<(usize, TrianglePluck)>,
     /// The played string's tension corrections at the phrase's notes, tuned by ear (one
     /// string; semitones from its open note).
     frets: SaMap,
@@ -47,12 +52,12 @@ impl Sitar {
     /// string. Control thread.
     pub fn build(spec: &SitarSpec) -> Result<Self, ParamError> {
         spec.validate()?;
-        let n = spec.taraf + 1;
+        let n = spec.strings();
         let targets = spec.targets();
         let plucks: Vec<TrianglePluck> = (0..n)
             .map(|i| {
                 let (length, _, _) = spec.geometry(i);
-                if i == 0 {
+                if i == 0 || spec.is_chikari(i) {
                     TrianglePluck {
                         position: spec.pluck_position * length,
                         amplitude: spec.pluck_amplitude,
@@ -80,14 +85,21 @@ impl Sitar {
         } else {
             SaMap::none(1)
         };
+        let taraf = spec.taraf;
         let pan = (0..n)
             .map(|i| {
-                if i == 0 || n == 1 {
+                if i == 0 || taraf == 0 && !spec.is_chikari(i) {
                     pan_gains(0.0)
+                } else if spec.is_chikari(i) {
+                    pan_gains(CHIKARI_PAN)
                 } else {
-                    pan_gains(0.8 * (2.0 * (i - 1) as f64 / (n - 2).max(1) as f64 - 1.0))
+                    pan_gains(0.8 * (2.0 * (i - 1) as f64 / (taraf - 1).max(1) as f64 - 1.0))
                 }
             })
+            .collect();
+        let chikari = (0..n)
+            .filter(|&i| spec.is_chikari(i))
+            .map(|i| (i, plucks[i]))
             .collect();
         let tensions = (0..n)
             .map(|i| spec.nominal_tension(i) * scales[i])
@@ -100,12 +112,13 @@ impl Sitar {
             next: 0,
             sounding: None,
             pluck: plucks[0],
+            chikari,
             frets,
             step: 0,
         })
     }
 
-    /// The network (string 0 the played string, then the taraf).
+    /// The network (string 0 the played string, then the taraf, then the chikari).
     pub fn network(&self) -> &StringNetwork {
         &self.network
     }
@@ -132,6 +145,16 @@ impl Sitar {
                 // The amplitude was validated at build and the strength is at most 1.
                 let ok = self.network.pluck(0, &p).is_ok();
                 debug_assert!(ok);
+            }
+            if stroke.chikari > 0.0 {
+                for &(i, pluck) in &self.chikari {
+                    let p = TrianglePluck {
+                        amplitude: pluck.amplitude * stroke.chikari,
+                        ..pluck
+                    };
+                    let ok = self.network.pluck(i, &p).is_ok();
+                    debug_assert!(ok);
+                }
             }
         }
         if let Some(stroke) = self.sounding.filter(|s| s.gliding(n)) {

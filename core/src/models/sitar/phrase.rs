@@ -1,5 +1,6 @@
 //! The sitar's phrase: strokes of the mizrab on the played string, each at a fret, with an
-//! optional meend (the pull across the fret that bends the note).
+//! optional meend (the pull across the fret that bends the note), and on the chikari (the
+//! rhythmic drone strokes of alap's jor and of jhala).
 //!
 //! The fret and the meend move the played string's pitch by its tension (`T ∝ f²`, on the
 //! string's fixed length and grid): a meend is a tension change on a real sitar, a fret is a
@@ -25,9 +26,14 @@ pub struct SitarStroke {
     pub at: f64,
     /// The fret's note, Hz (60 to 1200).
     pub note: f64,
-    /// Strength of the stroke: its amplitude over the scene's `pluck_amplitude` (0 to 1).
+    /// Strength of the stroke: its amplitude over the scene's `pluck_amplitude` (0 to 1; 0
+    /// leaves the played string alone, as a stroke on the chikari alone does).
     #[serde(default = "default_strength")]
     pub strength: f64,
+    /// Strength of the stroke on the chikari, every chikari string at once: its amplitude over
+    /// the scene's `pluck_amplitude` (0 to 1; default 0, the chikari not struck).
+    #[serde(default)]
+    pub chikari: f64,
     /// The meend's target note, Hz (within 7 semitones of `note`; none: no meend).
     #[serde(default)]
     pub meend_to: Option<f64>,
@@ -56,6 +62,7 @@ impl SitarStroke {
             at,
             note,
             strength: default_strength(),
+            chikari: 0.0,
             meend_to: None,
             meend_after: default_meend_after(),
             meend_seconds: default_meend_seconds(),
@@ -76,6 +83,7 @@ impl SitarStroke {
         }
         check_closed(&f("note"), self.note, 60.0, 1200.0)?;
         check_closed(&f("strength"), self.strength, 0.0, 1.0)?;
+        check_closed(&f("chikari"), self.chikari, 0.0, 1.0)?;
         if let Some(to) = self.meend_to {
             let (lo, hi) = (
                 self.note * 2f64.powf(-7.0 / 12.0),
@@ -104,6 +112,8 @@ pub struct StrokeSteps {
     pub ratio: f64,
     /// Amplitude factor (0 to 1).
     pub strength: f64,
+    /// Amplitude factor of the chikari's pluck (0 to 1).
+    pub chikari: f64,
     /// The meend: `(start step, steps, target ratio)`.
     pub meend: Option<(u64, u64, f64)>,
 }
@@ -136,6 +146,7 @@ pub fn phrase_steps(phrase: &[SitarStroke], open: f64, h: f64) -> Vec<StrokeStep
             at: step(s.at),
             ratio: s.note / open,
             strength: s.strength,
+            chikari: s.chikari,
             meend: s.meend_to.map(|to| {
                 (
                     step(s.at + s.meend_after),
@@ -191,6 +202,11 @@ mod tests {
         assert_eq!(
             weak.validate(0, 0.0).unwrap_err().field,
             "sitar.phrase[0].strength"
+        );
+        let chikari = SitarStroke { chikari: -0.1, ..s };
+        assert_eq!(
+            chikari.validate(0, 0.0).unwrap_err().field,
+            "sitar.phrase[0].chikari"
         );
     }
 }

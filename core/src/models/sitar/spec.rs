@@ -25,6 +25,20 @@ pub const MAIN_DIAMETER: f64 = 0.3e-3;
 pub const TARAF_LENGTH: f64 = 0.45;
 /// Diameter of a taraf string (steel), m.
 pub const TARAF_DIAMETER: f64 = 0.2e-3;
+/// Diameter of a chikari string (steel), m.
+pub const CHIKARI_DIAMETER: f64 = 0.2e-3;
+/// A chikari string's length times its pitch, m/s: half the transverse wave speed
+/// `√(σ/ρ)` of steel at a stress `σ` of 1.5 GPa, 60 % of a music wire's tensile strength
+/// (about 2.5 GPa). Set so, each chikari is as long as its pitch allows (Sa' 0.40 m, Sa''
+/// 0.20 m on Sa = C#4): a sitar's chikari pegs sit along the neck at about those lengths.
+pub const CHIKARI_SPEED: f64 = 218.5;
+/// The chikari's notes over Sa, in the order they are strung: the upper Sa, the Sa above it,
+/// and Pa between them (a third chikari on some sitars).
+pub const CHIKARI_RATIOS: [f64; 3] = [2.0, 4.0, 3.0];
+/// Pan of the chikari in the image (-1 left to 1 right): the chikari lie beside the played
+/// string on the main bridge.
+pub const CHIKARI_PAN: f64 = -0.3;
+
 /// Curvature of the main bridge's top (1/m; the lecture's sitar bridge, 80 µm below the
 /// string's rest line 20 mm from the edge).
 pub const MAIN_BRIDGE_CURVATURE: f64 = 0.2;
@@ -82,6 +96,13 @@ pub struct SitarSpec {
     /// Modes of each taraf string (8 to 2000).
     #[serde(default = "default_taraf_modes")]
     pub taraf_modes: usize,
+    /// Number of chikari strings (0 to 3; default 0): the high drone strings beside the played
+    /// string on the main bridge, with its jawari, tuned to [`CHIKARI_RATIOS`] of Sa and
+    /// plucked by the phrase's strokes that ask for them ([`SitarStroke::chikari`]). They come
+    /// after the taraf among the strings; their grid spacing is the played string's, so the
+    /// jawari is resolved alike.
+    #[serde(default)]
+    pub chikari: usize,
     /// Simulation rate, Hz (16 000 to 1 000 000; default 192 000, where the played string's
     /// modes stay under the Nyquist frequency).
     #[serde(default = "default_sim_rate")]
@@ -135,6 +156,7 @@ impl SitarSpec {
             taraf_cents: Vec::new(),
             modes: default_modes(),
             taraf_modes: default_taraf_modes(),
+            chikari: 0,
             sim_rate: default_sim_rate(),
             pluck_position: default_pluck_position(),
             pluck_amplitude: default_pluck_amplitude(),
@@ -160,6 +182,13 @@ impl SitarSpec {
         for (i, &c) in self.taraf_cents.iter().enumerate() {
             check_closed(&format!("sitar.taraf_cents[{i}]"), c, -100.0, 100.0)?;
         }
+        if self.chikari > CHIKARI_RATIOS.len() {
+            return Err(ParamError::new(
+                "sitar.chikari",
+                self.chikari,
+                format!("0 to {}", CHIKARI_RATIOS.len()),
+            ));
+        }
         if !(32..=4000).contains(&self.modes) {
             return Err(ParamError::new("sitar.modes", self.modes, "32 to 4000"));
         }
@@ -182,20 +211,38 @@ impl SitarSpec {
     }
 
     /// Every string's target frequency (Hz): the played note, then the taraf (the thaat from
-    /// Sa up, moved by their fine tuning).
+    /// Sa up, moved by their fine tuning), then the chikari.
     pub fn targets(&self) -> Vec<f64> {
         let mut t = vec![self.note];
         for (i, r) in self.thaat.taraf(self.taraf).into_iter().enumerate() {
             let cents = self.taraf_cents.get(i).copied().unwrap_or(0.0);
             t.push(self.sa * r * 2f64.powf(cents / 1200.0));
         }
+        t.extend(CHIKARI_RATIOS[..self.chikari].iter().map(|r| self.sa * r));
         t
     }
 
-    /// String `i`'s `(length m, diameter m, modes)`: the played string first.
+    /// Number of strings: the played string, the taraf and the chikari.
+    pub fn strings(&self) -> usize {
+        1 + self.taraf + self.chikari
+    }
+
+    /// Whether string `i` is a chikari.
+    pub fn is_chikari(&self, i: usize) -> bool {
+        i > self.taraf && i < self.strings()
+    }
+
+    /// String `i`'s `(length m, diameter m, modes)`: the played string first, then the taraf,
+    /// then the chikari (length [`CHIKARI_SPEED`] over the pitch, modes for the played
+    /// string's grid spacing, at least 16).
     pub fn geometry(&self, i: usize) -> (f64, f64, usize) {
         if i == 0 {
             (MAIN_LENGTH, MAIN_DIAMETER, self.modes)
+        } else if self.is_chikari(i) {
+            let length = CHIKARI_SPEED / (self.sa * CHIKARI_RATIOS[i - 1 - self.taraf]);
+            let dx = MAIN_LENGTH / (self.modes + 1) as f64;
+            let modes = ((length / dx).round() as usize).saturating_sub(1).max(16);
+            (length, CHIKARI_DIAMETER, modes)
         } else {
             (TARAF_LENGTH, TARAF_DIAMETER, self.taraf_modes)
         }
@@ -211,7 +258,7 @@ impl SitarSpec {
     /// The network with string `i` at `tension_scale[i]` times its nominal tension. Validates.
     pub fn network(&self, tension_scale: &[f64]) -> Result<NetworkConfig, ParamError> {
         self.validate()?;
-        let strings = (0..=self.taraf)
+        let strings = (0..self.strings())
             .map(|i| {
                 let (length, diameter, modes) = self.geometry(i);
                 let intervals = modes + 1;
@@ -227,7 +274,8 @@ impl SitarSpec {
                     intervals,
                     sample_rate: self.sim_rate,
                 };
-                let (obstacle, shape) = if i == 0 {
+                // The played string and the chikari cross the main bridge and its jawari.
+                let (obstacle, shape) = if i == 0 || self.is_chikari(i) {
                     (
                         curved_top(MAIN_BRIDGE_CURVATURE, 0.0, dx, modes),
                         MAIN_SHAPE,
