@@ -53,6 +53,11 @@ pub enum Command {
 /// Parses the process arguments and runs the command.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Offline, nothing waits on the audio thread: tuning a tanpura or a sitar by ear may
+    // take every core (a plugin leaves one to its audio thread).
+    if let Ok(cores) = std::thread::available_parallelism() {
+        noether::models::tanpura::tune::set_tuning_threads(cores.get());
+    }
     let result = match cli.command {
         Some(Command::Accuracy(args)) => accuracy::run(args),
         Some(Command::Auto(args)) => auto::run(args),

@@ -8,7 +8,9 @@ use crate::models::network::{BridgeInstrument, StringNetwork};
 use crate::models::string::params::Stiffness;
 use crate::models::string::{TrianglePluck, ValetteLosses};
 use crate::models::tanpura::instrument::pan_gains;
-use crate::models::tanpura::tune::{tune_by_ear, tune_string_by_ear};
+use crate::models::tanpura::tune::{
+    map_on_threads, tune_by_ear, tune_string_by_ear, tuning_threads,
+};
 use crate::models::tanpura::SaMap;
 
 /// Amplitude of the pluck that tunes a taraf string by ear, m.
@@ -219,18 +221,18 @@ fn fret_map(spec: &SitarSpec, scales: &[f64], pluck: &TrianglePluck) -> Result<S
         .collect();
     notes.sort_by(f64::total_cmp);
     notes.dedup();
-    let mut corrections = Vec::with_capacity(notes.len());
-    for &f in &notes {
+    // Each note is tuned on its own network: the notes share the tuning threads.
+    let corrections = map_on_threads(notes.len(), tuning_threads(), |i| {
+        let f = notes[i];
         if f == spec.note {
-            corrections.push(1.0);
-            continue;
+            return Ok(1.0);
         }
         let ratio2 = (f / spec.note).powi(2);
         let mut start = scales.to_vec();
         start[0] *= ratio2;
         let tuned = tune_string_by_ear(|s| spec.network(s), &start, 0, f, pluck)?;
-        corrections.push(tuned / (scales[0] * ratio2));
-    }
+        Ok(tuned / (scales[0] * ratio2))
+    })?;
     let semitones = notes
         .iter()
         .map(|f| 12.0 * (f / spec.note).log2())
