@@ -237,3 +237,35 @@ fn a_chikari_stroke_sounds_the_chikari_at_their_notes() {
     spec.chikari = 4;
     assert_eq!(spec.validate().unwrap_err().field, "sitar.chikari");
 }
+
+/// A chikari stroke inside a meend leaves the played string gliding: Sa pulled up to Re (from
+/// 0.1 s over 0.3 s) with the chikari struck at 0.25 s, mid-glide, ends on Re within 1 cent
+/// (measured over 0.6 to 0.9 s). Were the chikari stroke to refret the played string, it
+/// would stay on Sa, 204 cents away.
+#[test]
+fn a_chikari_stroke_does_not_stop_a_meend() {
+    let sa = 277.18;
+    let re = sa * 9.0 / 8.0;
+    let mut spec = SitarSpec::at(sa, sa);
+    spec.taraf = 0;
+    spec.chikari = 1;
+    spec.phrase = vec![
+        SitarStroke {
+            meend_to: Some(re),
+            meend_after: 0.1,
+            meend_seconds: 0.3,
+            ..SitarStroke::at(0.0, sa)
+        },
+        SitarStroke {
+            strength: 0.0,
+            chikari: 1.0,
+            ..SitarStroke::at(0.25, sa)
+        },
+    ];
+    let fs = spec.sim_rate;
+    let mut sitar = Sitar::build(&spec).unwrap();
+    let f = played_pitch(&mut sitar, fs, (0.6 * fs) as u64, (0.9 * fs) as u64);
+    let cents = 1200.0 * (f / re).log2();
+    eprintln!("meend under a chikari stroke: {f:.3} Hz, {cents:+.3} cents from Re");
+    assert!(cents.abs() < 1.0, "{cents:+.3} cents from Re");
+}

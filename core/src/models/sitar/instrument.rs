@@ -130,16 +130,19 @@ impl Sitar {
         &self.tensions
     }
 
-    /// Plays the phrase's strokes due at this step (a stroke sets the played string's tension
-    /// to its fret and plucks it on top of its motion), moves the pitch along a meend, then
-    /// advances the network one step. No allocation; O(modes) on a step that retunes.
+    /// Plays the phrase's strokes due at this step (a stroke of non-zero strength sets the
+    /// played string's tension to its fret and plucks it on top of its motion; a chikari
+    /// stroke plucks the chikari), moves the pitch along a meend, then advances the network
+    /// one step. No allocation; O(modes) on a step that retunes.
     pub fn step(&mut self) {
         let n = self.step;
         while let Some(&stroke) = self.phrase.get(self.next).filter(|s| s.at <= n) {
             self.next += 1;
-            self.sounding = Some(stroke);
-            self.set_pitch(stroke.ratio);
+            // A stroke of strength 0 (on the chikari alone) leaves the played string as it
+            // is: its fret, and a meend under way, go on.
             if stroke.strength > 0.0 {
+                self.sounding = Some(stroke);
+                self.set_pitch(stroke.ratio);
                 let p = TrianglePluck {
                     amplitude: self.pluck.amplitude * stroke.strength,
                     ..self.pluck

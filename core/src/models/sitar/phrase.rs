@@ -26,8 +26,9 @@ pub struct SitarStroke {
     pub at: f64,
     /// The fret's note, Hz (60 to 1200).
     pub note: f64,
-    /// Strength of the stroke: its amplitude over the scene's `pluck_amplitude` (0 to 1; 0
-    /// leaves the played string alone, as a stroke on the chikari alone does).
+    /// Strength of the stroke: its amplitude over the scene's `pluck_amplitude` (0 to 1). 0
+    /// leaves the played string alone, as a stroke on the chikari alone does: it is not
+    /// struck, and its fret and a meend under way go on (`note` and the meend are not used).
     #[serde(default = "default_strength")]
     pub strength: f64,
     /// Strength of the stroke on the chikari, every chikari string at once: its amplitude over
