@@ -90,7 +90,7 @@ impl Sitar {
         let taraf = spec.taraf;
         let pan = (0..n)
             .map(|i| {
-                if i == 0 || taraf == 0 && !spec.is_chikari(i) {
+                if i == 0 {
                     pan_gains(0.0)
                 } else if spec.is_chikari(i) {
                     pan_gains(CHIKARI_PAN)
