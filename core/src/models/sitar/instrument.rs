@@ -3,18 +3,18 @@
 
 use super::phrase::{phrase_steps, StrokeSteps};
 use super::spec::{SitarSpec, CHIKARI_PAN};
+use super::tuning::{phrase_notes, plucks, tune, tune_cached};
 use crate::error::ParamError;
 use crate::models::network::{BridgeInstrument, StringNetwork};
 use crate::models::string::params::Stiffness;
 use crate::models::string::{TrianglePluck, ValetteLosses};
-use crate::models::tanpura::instrument::pan_gains;
-use crate::models::tanpura::tune::{
-    map_on_threads, tune_by_ear, tune_string_by_ear, tuning_threads,
-};
-use crate::models::tanpura::SaMap;
+use crate::models::tanpura::instrument::{pan_gains, RetuneRefusal};
+use crate::models::tanpura::{SaMap, TunedStrings, TuningSource};
+use std::path::Path;
 
-/// Amplitude of the pluck that tunes a taraf string by ear, m.
-const TARAF_TUNING_PLUCK: f64 = 3e-4;
+/// Largest pluck strength over the spec's amplitude (the engine's velocity times the mod
+/// wheel's factor): five times the 1 mm a sitar is tuned at.
+pub const MAX_STRENGTH: f64 = 10.0;
 
 /// A sitar: the played string (string 0, with the curved jawari of the main bridge), its
 /// taraf (strings 1 to `taraf`) and its chikari (the last strings, on the main bridge's
@@ -24,7 +24,7 @@ const TARAF_TUNING_PLUCK: f64 = 3e-4;
 /// played string in the centre, the chikari beside it and the taraf spread across the image.
 ///
 /// Built on the control thread ([`Sitar::build`]); stepped without allocating.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Sitar {
     /// The strings on the bridges.
     network: StringNetwork,
@@ -47,46 +47,59 @@ pub struct Sitar {
     frets: SaMap,
     /// Steps taken.
     step: u64,
+    /// The played string's open note, Hz.
+    note: f64,
+    /// The played string's pitch over its open note (the engine's fret).
+    ratio: f64,
+    /// The damping scale and the floor (1/s) every string's losses were last set with.
+    losses: (f64, f64),
 }
 
 impl Sitar {
-    /// Validates `spec`, tunes every string by ear, builds the network and plucks the played
-    /// string. Control thread.
+    /// Validates `spec`, tunes every string by ear (and the played string at the phrase's
+    /// notes), builds the network and, without a phrase, plucks the played string. Control
+    /// thread.
     pub fn build(spec: &SitarSpec) -> Result<Self, ParamError> {
+        let tuned = tune(spec, &phrase_notes(spec))?;
+        let mut sitar = Self::from_tuned(spec, tuned)?;
+        if spec.phrase.is_empty() {
+            sitar.network.pluck(0, &sitar.pluck)?;
+        }
+        Ok(sitar)
+    }
+
+    /// The engine's sitar: `spec` without its phrase, tuned by ear at the open notes and at
+    /// `anchors` (semitones over the open note) or read from the cache in `dir`, at rest.
+    /// Worker thread.
+    pub fn build_cached(
+        spec: &SitarSpec,
+        anchors: &[f64],
+        dir: Option<&Path>,
+    ) -> Result<(Self, TuningSource), ParamError> {
+        let spec = SitarSpec {
+            phrase: Vec::new(),
+            ..spec.clone()
+        };
+        let (tuned, source) = tune_cached(&spec, anchors, dir)?;
+        Ok((Self::from_tuned(&spec, tuned)?, source))
+    }
+
+    /// The sitar of `spec` with its strings tuned as `tuned` says (one tension scale per
+    /// string; the played string's fret corrections), at rest. Control thread.
+    pub fn from_tuned(spec: &SitarSpec, tuned: TunedStrings) -> Result<Self, ParamError> {
         spec.validate()?;
         let n = spec.strings();
-        let targets = spec.targets();
-        let plucks: Vec<TrianglePluck> = (0..n)
-            .map(|i| {
-                let (length, _, _) = spec.geometry(i);
-                if i == 0 || spec.is_chikari(i) {
-                    TrianglePluck {
-                        position: spec.pluck_position * length,
-                        amplitude: spec.pluck_amplitude,
-                    }
-                } else {
-                    TrianglePluck {
-                        position: 0.3 * length,
-                        amplitude: TARAF_TUNING_PLUCK,
-                    }
-                }
-            })
-            .collect();
-        let scales = if spec.tune_by_ear {
-            tune_by_ear(|s| spec.network(s), &targets, &plucks)?
-        } else {
-            vec![1.0; n]
-        };
-        let mut network = StringNetwork::new(&spec.network(&scales)?)?;
-        if spec.phrase.is_empty() {
-            network.pluck(0, &plucks[0])?;
+        let TunedStrings { scales, sa_map } = tuned;
+        if scales.len() != n {
+            return Err(ParamError::new(
+                "sitar.scales",
+                scales.len(),
+                format!("one per string ({n})"),
+            ));
         }
+        let plucks = plucks(spec);
+        let network = StringNetwork::new(&spec.network(&scales)?)?;
         let phrase = phrase_steps(&spec.phrase, spec.note, network.h());
-        let frets = if spec.tune_by_ear {
-            fret_map(spec, &scales, &plucks[0])?
-        } else {
-            SaMap::none(1)
-        };
         let taraf = spec.taraf;
         let pan = (0..n)
             .map(|i| {
@@ -115,8 +128,11 @@ impl Sitar {
             sounding: None,
             pluck: plucks[0],
             chikari,
-            frets,
+            frets: sa_map,
             step: 0,
+            note: spec.note,
+            ratio: 1.0,
+            losses: (1.0, 0.0),
         })
     }
 
@@ -172,27 +188,131 @@ impl Sitar {
     /// Sets the played string to `ratio` times its open pitch by its tension (`T ∝ ratio²`,
     /// corrected as tuned by ear at the phrase's notes and interpolated between them).
     fn set_pitch(&mut self, ratio: f64) {
-        let c = self.frets.correction(0, 12.0 * ratio.log2());
-        // Kept through the retune (the string is built, and retuned, with it).
-        let ei = self.network.strings()[0].params().bending_stiffness();
         // Finite and positive by the phrase's validation: cannot refuse.
-        let ok = self
-            .network
-            .string_mut(0)
-            .retune(
-                self.tensions[0] * ratio * ratio * c,
-                Stiffness::BendingStiffness(ei),
-                Some(&ValetteLosses::default()),
-                1.0,
-                0.0,
-            )
-            .is_ok();
+        let ok = self.try_fret(ratio, 1.0, 0.0).is_ok();
         debug_assert!(ok);
     }
 
     /// Steps taken.
     pub fn steps(&self) -> u64 {
         self.step
+    }
+
+    /// The played string's open note, Hz.
+    pub fn note(&self) -> f64 {
+        self.note
+    }
+
+    /// The played string's pitch over its open note.
+    pub fn ratio(&self) -> f64 {
+        self.ratio
+    }
+
+    /// The played string's pluck amplitude at strength 1, m.
+    pub fn pluck_amplitude(&self) -> f64 {
+        self.pluck.amplitude
+    }
+
+    /// The engine's fret: the played string at `ratio` times its open pitch by its tension
+    /// (`T = ratio² c T_open`, `c` its correction at that note from the notes tuned by ear),
+    /// every string's Valette losses times `damping` and at least the decay rate `floor`
+    /// (1/s: the player's hand on the strings, a release; 0 lets them ring). The taraf and
+    /// the chikari keep their tensions and are retuned only when `damping` or `floor`
+    /// changes. Refused (nothing changes) for a ratio that is not finite and positive, a
+    /// damping or a floor that is not finite and ≥ 0, or a tension that would not be finite
+    /// and positive. Stepping thread; no allocation, also when it refuses; O(modes) of the
+    /// played string (of every string when the losses change).
+    pub fn try_fret(&mut self, ratio: f64, damping: f64, floor: f64) -> Result<(), RetuneRefusal> {
+        if !(damping.is_finite() && damping >= 0.0) {
+            return Err(RetuneRefusal::Damping);
+        }
+        if !(ratio.is_finite() && ratio > 0.0) {
+            return Err(RetuneRefusal::Ratio);
+        }
+        if !(floor.is_finite() && floor >= 0.0) {
+            return Err(RetuneRefusal::Floor);
+        }
+        let tension =
+            self.tensions[0] * ratio * ratio * self.frets.correction(0, 12.0 * ratio.log2());
+        if !(tension.is_finite() && tension > 0.0) {
+            return Err(RetuneRefusal::Tension);
+        }
+        let losses = ValetteLosses::default();
+        let strings = if (damping, floor) == self.losses {
+            1
+        } else {
+            self.tensions.len()
+        };
+        for i in 0..strings {
+            let t = if i == 0 { tension } else { self.tensions[i] };
+            // Kept through the retune (the strings are built, and retuned, with it).
+            let ei = self.network.strings()[i].params().bending_stiffness();
+            // The inputs are checked above: the string cannot refuse them.
+            let ok = self
+                .network
+                .string_mut(i)
+                .retune(
+                    t,
+                    Stiffness::BendingStiffness(ei),
+                    Some(&losses),
+                    damping,
+                    floor,
+                )
+                .is_ok();
+            debug_assert!(ok);
+        }
+        self.ratio = ratio;
+        self.losses = (damping, floor);
+        Ok(())
+    }
+
+    /// Plucks the played string at `strength` times its pluck amplitude, on top of its
+    /// motion. `false` (nothing changes) outside 0 to [`MAX_STRENGTH`]. Stepping thread; no
+    /// allocation.
+    pub fn try_pluck(&mut self, strength: f64) -> bool {
+        if !(0.0..=MAX_STRENGTH).contains(&strength) {
+            return false;
+        }
+        let p = TrianglePluck {
+            amplitude: self.pluck.amplitude * strength,
+            ..self.pluck
+        };
+        self.network.pluck(0, &p).is_ok()
+    }
+
+    /// Plucks every chikari at `strength` times its pluck amplitude (a stroke across them).
+    /// `false` (nothing changes) outside 0 to [`MAX_STRENGTH`]. Stepping thread; no
+    /// allocation.
+    pub fn try_pluck_chikari(&mut self, strength: f64) -> bool {
+        if !(0.0..=MAX_STRENGTH).contains(&strength) {
+            return false;
+        }
+        for &(i, pluck) in &self.chikari {
+            let p = TrianglePluck {
+                amplitude: pluck.amplitude * strength,
+                ..pluck
+            };
+            if self.network.pluck(i, &p).is_err() {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// Puts every string and the bridges at rest and the phrase back at its start; the
+    /// played string keeps its fret. Stepping thread; no allocation.
+    pub fn reset(&mut self) {
+        self.network.reset();
+        self.next = 0;
+        self.sounding = None;
+        self.step = 0;
+    }
+
+    /// String `i`'s displacement at the grid's interior nodes (m, from the bridge's end;
+    /// [`crate::models::string::StiffString::grid_displacement`]: one inverse transform).
+    /// For views; the motion is not changed. Stepping thread, no allocation.
+    pub fn string_grid_displacement(&mut self, i: usize) -> &[f64] {
+        self.network.string_mut(i).grid_displacement()
     }
 }
 
@@ -208,37 +328,4 @@ impl BridgeInstrument for Sitar {
     fn gains(&self) -> &[[f64; 2]] {
         &self.pan
     }
-}
-
-/// The played string tuned by ear at every note of `spec`'s phrase (the frets' notes and the
-/// meends' targets) other than its open note, as corrections of `T ∝ f²` (`scales`: the open
-/// tuning of every string). A player sets each fret's pitch by ear too: what the jawari and
-/// the bridge add to the pitch changes with the string's tension (3 to 4 cents over four to
-/// five semitones at 192 kHz). Control thread; one tuning of the played string per note.
-fn fret_map(spec: &SitarSpec, scales: &[f64], pluck: &TrianglePluck) -> Result<SaMap, ParamError> {
-    let mut notes: Vec<f64> = spec
-        .phrase
-        .iter()
-        .flat_map(|s| std::iter::once(s.note).chain(s.meend_to))
-        .chain([spec.note])
-        .collect();
-    notes.sort_by(f64::total_cmp);
-    notes.dedup();
-    // Each note is tuned on its own network: the notes share the tuning threads.
-    let corrections = map_on_threads(notes.len(), tuning_threads(), |i| {
-        let f = notes[i];
-        if f == spec.note {
-            return Ok(1.0);
-        }
-        let ratio2 = (f / spec.note).powi(2);
-        let mut start = scales.to_vec();
-        start[0] *= ratio2;
-        let tuned = tune_string_by_ear(|s| spec.network(s), &start, 0, f, pluck)?;
-        Ok(tuned / (scales[0] * ratio2))
-    })?;
-    let semitones = notes
-        .iter()
-        .map(|f| 12.0 * (f / spec.note).log2())
-        .collect();
-    Ok(SaMap::from_parts(semitones, corrections, 1))
 }

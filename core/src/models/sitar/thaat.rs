@@ -50,6 +50,26 @@ const N_K: f64 = 16.0 / 9.0;
 const N: f64 = 15.0 / 8.0;
 
 impl Thaat {
+    /// Every thaat, in the order of their names ([`Self::KEYS`]).
+    pub const ALL: [Thaat; 10] = [
+        Thaat::Bilawal,
+        Thaat::Kalyan,
+        Thaat::Khamaj,
+        Thaat::Kafi,
+        Thaat::Asavari,
+        Thaat::Bhairavi,
+        Thaat::Bhairav,
+        Thaat::Purvi,
+        Thaat::Marwa,
+        Thaat::Todi,
+    ];
+
+    /// The thaats' names as scenes write them, in [`Self::ALL`]'s order.
+    pub const KEYS: [&'static str; 10] = [
+        "bilawal", "kalyan", "khamaj", "kafi", "asavari", "bhairavi", "bhairav", "purvi", "marwa",
+        "todi",
+    ];
+
     /// The seven degrees over Sa, ascending.
     pub fn degrees(self) -> [f64; 7] {
         match self {

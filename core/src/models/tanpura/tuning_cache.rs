@@ -1,4 +1,5 @@
-//! The drone's tuning by ear, kept on disk: each tuning simulates every string for
+//! The drone's (and the sitar's, `crate::models::sitar::tuning`) tuning by ear, kept on
+//! disk: each tuning simulates every string for
 //! `TUNE_PASSES` seconds (`super::tune`), so a drone tuned at five keys takes its worker
 //! about 18 s (four strings of 480 modes at 48 kHz). The result depends on nothing but the
 //! spec and the anchor keys, and it is a few numbers per string, so it is saved beside the
@@ -20,6 +21,7 @@ use super::spec::TanpuraSpec;
 use super::tune::tension_scales;
 use crate::error::ParamError;
 use crate::modal::circular::cache::{hash_words, write_atomic};
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -46,15 +48,30 @@ pub enum TuningSource {
     Nominal,
 }
 
-/// The file's contents.
+/// The file's contents: the tuning of the instrument whose tuning key is `spec`.
 #[derive(Debug, Serialize, Deserialize)]
-struct TuningFile {
+struct TuningFile<S> {
     version: u32,
     anchors: Vec<f64>,
     scales: Vec<f64>,
     semitones: Vec<f64>,
     corrections: Vec<f64>,
-    spec: TanpuraSpec,
+    spec: S,
+}
+
+/// What a cached tuning is of: the instrument's tuning key (the part of its spec the tuning
+/// depends on, written into the file and compared on reading), the file names' prefix, and
+/// how many strings the tuning holds: tension scales (`strings`) and strings mapped over the
+/// anchor keys (`mapped`).
+pub(crate) struct CacheKey<'a, S> {
+    /// The tuning key.
+    pub spec: &'a S,
+    /// The file names' prefix (`"tanpura"`, `"sitar"`).
+    pub prefix: &'a str,
+    /// Strings with a tension scale.
+    pub strings: usize,
+    /// Strings with corrections at the anchors.
+    pub mapped: usize,
 }
 
 /// Tunes `spec` by ear at its Sa and at `anchors` (semitones, [`SaMap::tune`]), or reads the
@@ -74,20 +91,33 @@ pub fn tune_cached(
             TuningSource::Nominal,
         ));
     }
-    let path = dir.map(|d| d.join(file_name(spec, anchors)));
-    if let Some(tuned) = path.as_deref().and_then(|p| read(p, spec, anchors)) {
+    let key = tuning_key(spec);
+    cached(&drone_key(&key, spec), anchors, dir, || {
+        let scales = tension_scales(spec)?;
+        let sa_map = if anchors.is_empty() {
+            SaMap::none(spec.strings)
+        } else {
+            SaMap::tune(spec, &scales, anchors)?
+        };
+        Ok(TunedStrings { scales, sa_map })
+    })
+}
+
+/// The tuning of `key` at `anchors` read from `dir`, or else `tune()`d and saved there (a
+/// cache that cannot be written costs the next build its time, nothing else). Worker thread.
+pub(crate) fn cached<S: Serialize + DeserializeOwned + PartialEq>(
+    key: &CacheKey<'_, S>,
+    anchors: &[f64],
+    dir: Option<&Path>,
+    tune: impl FnOnce() -> Result<TunedStrings, ParamError>,
+) -> Result<(TunedStrings, TuningSource), ParamError> {
+    let path = dir.map(|d| d.join(file_name_of(key, anchors)));
+    if let Some(tuned) = path.as_deref().and_then(|p| read_of(p, key, anchors)) {
         return Ok((tuned, TuningSource::Cached));
     }
-    let scales = tension_scales(spec)?;
-    let sa_map = if anchors.is_empty() {
-        SaMap::none(spec.strings)
-    } else {
-        SaMap::tune(spec, &scales, anchors)?
-    };
-    let tuned = TunedStrings { scales, sa_map };
+    let tuned = tune()?;
     if let Some(p) = &path {
-        // A cache that cannot be written costs the next build its time, nothing else.
-        let _ = write(p, spec, anchors, &tuned);
+        let _ = write_of(p, key, anchors, &tuned);
     }
     Ok((tuned, TuningSource::Tuned))
 }
@@ -107,48 +137,76 @@ fn tuning_key(spec: &TanpuraSpec) -> TanpuraSpec {
     }
 }
 
-/// The cache file's name: a hash of the spec's tuning key ([`tuning_key`]) and the anchors
-/// as they are written.
+/// The cache file's name for the drone `spec`: a hash of its tuning key ([`tuning_key`])
+/// and the anchors as they are written.
 pub fn file_name(spec: &TanpuraSpec, anchors: &[f64]) -> String {
-    let mut key = toml::to_string(&tuning_key(spec))
-        .unwrap_or_default()
-        .into_bytes();
-    key.extend(anchors.iter().flat_map(|a| a.to_bits().to_le_bytes()));
-    let h = hash_words(&key);
-    format!("tanpura-tuning-{h:016x}-v{TUNING_CACHE_VERSION}.toml")
+    let key = tuning_key(spec);
+    file_name_of(&drone_key(&key, spec), anchors)
 }
 
-/// The file at `path`, if it holds a valid tuning of exactly `spec` and `anchors`.
+/// The cache key of the drone `spec` whose tuning key is `key`.
+fn drone_key<'a>(key: &'a TanpuraSpec, spec: &TanpuraSpec) -> CacheKey<'a, TanpuraSpec> {
+    CacheKey {
+        spec: key,
+        prefix: "tanpura",
+        strings: spec.strings,
+        mapped: spec.strings,
+    }
+}
+
+/// The cache file's name: the prefix, a hash of the tuning key and the anchors as they are
+/// written.
+pub(crate) fn file_name_of<S: Serialize>(key: &CacheKey<'_, S>, anchors: &[f64]) -> String {
+    let mut bytes = toml::to_string(key.spec).unwrap_or_default().into_bytes();
+    bytes.extend(anchors.iter().flat_map(|a| a.to_bits().to_le_bytes()));
+    let h = hash_words(&bytes);
+    format!(
+        "{}-tuning-{h:016x}-v{TUNING_CACHE_VERSION}.toml",
+        key.prefix
+    )
+}
+
+/// The file at `path`, if it holds a valid tuning of exactly the drone `spec` and `anchors`.
+#[cfg(test)]
 fn read(path: &Path, spec: &TanpuraSpec, anchors: &[f64]) -> Option<TunedStrings> {
+    let key = tuning_key(spec);
+    read_of(path, &drone_key(&key, spec), anchors)
+}
+
+/// The file at `path`, if it holds a valid tuning of exactly `key` and `anchors`.
+fn read_of<S: DeserializeOwned + PartialEq>(
+    path: &Path,
+    key: &CacheKey<'_, S>,
+    anchors: &[f64],
+) -> Option<TunedStrings> {
     let text = std::fs::read_to_string(path).ok()?;
-    let f: TuningFile = toml::from_str(&text).ok()?;
-    let n = spec.strings;
+    let f: TuningFile<S> = toml::from_str(&text).ok()?;
     let good = |x: &f64| x.is_finite() && *x > 0.0;
     let valid = f.version == TUNING_CACHE_VERSION
-        && f.spec == tuning_key(spec)
+        && f.spec == *key.spec
         && f.anchors.len() == anchors.len()
         && f.anchors
             .iter()
             .zip(anchors)
             .all(|(a, b)| a.to_bits() == b.to_bits())
-        && f.scales.len() == n
+        && f.scales.len() == key.strings
         && f.scales.iter().all(good)
         && !f.semitones.is_empty()
         && f.semitones.iter().all(|s| s.is_finite())
         && f.semitones.windows(2).all(|w| w[0] < w[1])
         && f.semitones.contains(&0.0)
-        && f.corrections.len() == f.semitones.len() * n
+        && f.corrections.len() == f.semitones.len() * key.mapped
         && f.corrections.iter().all(good);
     valid.then(|| TunedStrings {
         scales: f.scales,
-        sa_map: SaMap::from_parts(f.semitones, f.corrections, n),
+        sa_map: SaMap::from_parts(f.semitones, f.corrections, key.mapped),
     })
 }
 
 /// Writes `tuned` to `path` atomically (a temporary file, then a rename).
-fn write(
+fn write_of<S: Serialize>(
     path: &Path,
-    spec: &TanpuraSpec,
+    key: &CacheKey<'_, S>,
     anchors: &[f64],
     tuned: &TunedStrings,
 ) -> std::io::Result<()> {
@@ -159,7 +217,7 @@ fn write(
         scales: tuned.scales.clone(),
         semitones: semitones.to_vec(),
         corrections: corrections.to_vec(),
-        spec: tuning_key(spec),
+        spec: key.spec,
     };
     let text = toml::to_string(&f).map_err(std::io::Error::other)?;
     write_atomic(path, text.as_bytes())
