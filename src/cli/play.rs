@@ -175,7 +175,7 @@ pub fn run(a: PlayArgs) -> Result<(), Error> {
         );
     }
     if let Some(tuning) = &r.drone_tuning {
-        eprintln!("  the drone was {tuning}");
+        eprintln!("  the strings were {tuning}");
     }
     eprintln!("  wrote {} and {}", wav.display(), report_path.display());
     if let Some(dir) = &a.out.plot {

@@ -337,8 +337,8 @@ pub struct PlayReport {
     /// The bank was built with fewer modes than asked: "1000 of 2000 modes (memory cap)"
     /// (offline, only the memory cap reduces a model; `null` otherwise).
     pub reduced: Option<String>,
-    /// How a drone's strings were tuned ("tuned by ear at the root and 6 and 12 semitones
-    /// around it"; `null` for the other models).
+    /// How a string network's strings were tuned (the drone's, the sitar's: "tuned by ear at
+    /// the root and at keys up to 12 semitones around it"; `null` for the other models).
     pub drone_tuning: Option<String>,
 }
 

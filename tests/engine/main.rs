@@ -26,6 +26,7 @@ mod param_meta;
 mod per_note;
 mod pitch_from_sound;
 mod preset_levels;
+mod sitar;
 mod string_presets;
 mod tiers;
 

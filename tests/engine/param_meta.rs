@@ -107,6 +107,20 @@ fn a_parameter_an_instrument_does_not_read_does_not_change_its_sound() {
                 &[(ParamId::Modes, 200.0), (ParamId::Jivari, 10.0)],
             ),
         ),
+        // The sitar with three taraf strings and its chikari, tuned by tension (tuning by ear
+        // is read, and not moved), at 48 kHz.
+        (
+            "sitar with taraf",
+            instrument(
+                "sitar-taraf",
+                &[
+                    (ParamId::TarafStrings, 3.0),
+                    (ParamId::DroneEar, 0.0),
+                    (ParamId::SimRate, 48_000.0),
+                    (ParamId::ChikariStroke, 0.5),
+                ],
+            ),
+        ),
     ];
     let mut checked = 0;
     for (name, v) in &instruments {

@@ -18,8 +18,9 @@ use super::params::{ParamId, ParamValues};
 use super::plate_bank::{plate_sim_rate, plate_voices};
 use super::pool::Lanes;
 use super::resample::Resampler;
+use super::sitar_bank::{sitar_preview, sitar_voices};
 use super::string_bank::string_voices;
-use super::voice::{Voice, VoiceModel, DRONE_FORCE_REF};
+use super::voice::{Voice, VoiceModel, DRONE_FORCE_REF, SITAR_FORCE_REF};
 use crate::error::ParamError;
 pub use crate::models::plate::basis::ModalCache;
 use crate::models::plate::StepBoard;
@@ -86,7 +87,8 @@ pub(crate) struct Bank {
     /// A preview: the small model a live host plays while the full one builds
     /// ([`Self::preview_of`]).
     pub preview: bool,
-    /// How a drone bank's strings were tuned (`None` for the other models).
+    /// How a string network's strings were tuned (the drone's, the sitar's; `None` for the
+    /// other models).
     pub drone_tuning: Option<DroneTuning>,
 }
 
@@ -108,7 +110,7 @@ impl Bank {
         Self::build_as(v, host_rate, cache, board, id, share, false)
     }
 
-    /// [`Self::build`]; `quick` builds a drone without tuning it by ear (its preview,
+    /// [`Self::build`]; `quick` builds a drone or a sitar without tuning it by ear (its preview,
     /// `engine/drone_bank.rs`). Worker thread.
     fn build_as(
         v: &ParamValues,
@@ -132,6 +134,8 @@ impl Bank {
                 PLATE_VELOCITY_REF
             } else if kind.is_drone() {
                 DRONE_FORCE_REF
+            } else if kind.is_sitar_taraf() {
+                SITAR_FORCE_REF
             } else {
                 STRING_VELOCITY_REF
             };
@@ -155,6 +159,16 @@ impl Bank {
                 drone_preview(v, jobs, voices_n)?
             } else {
                 let (built, tuning) = drone_voices(v, jobs, voices_n, share)?;
+                drone_tuning = Some(tuning);
+                built
+            };
+            fitted = None;
+        } else if kind.is_sitar_taraf() {
+            voices = if quick {
+                drone_tuning = Some(DroneTuning::Tensions { asked: false });
+                sitar_preview(v, jobs, voices_n)?
+            } else {
+                let (built, tuning) = sitar_voices(v, jobs, voices_n, share)?;
                 drone_tuning = Some(tuning);
                 built
             };
@@ -236,7 +250,7 @@ impl Bank {
         board: &Arc<StepBoard>,
         id: u64,
     ) -> Option<Bank> {
-        let (values, quick) = if v.model().is_drone() {
+        let (values, quick) = if v.model().is_network() {
             (*v, true)
         } else {
             (Self::preview_of(v)?, false)
@@ -273,7 +287,7 @@ impl Bank {
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
             )
-        } else if v.model().is_drone() {
+        } else if v.model().is_network() {
             (v.get(ParamId::SimRate) as f64)
                 .max(DRONE_MIN_SIM_RATE)
                 .round()

@@ -317,7 +317,7 @@ fn first_build(
 /// Builds and sends the preview of `wanted` (`Bank::preview_of`), if it has one and builds;
 /// a refusal is left to the full build that follows, which reports it.
 fn preview(s: &mut WorkerSetup, current: &Current, wanted: &ParamValues, stop: &AtomicBool) {
-    if Bank::preview_of(wanted).is_none() && !wanted.model().is_drone() {
+    if Bank::preview_of(wanted).is_none() && !wanted.model().is_network() {
         return;
     }
     let id = s.begin_build();

@@ -17,17 +17,22 @@ pub enum ModelKind {
     /// The tanpura drone: four to six strings with their jivari on one moving bridge, tuned
     /// to Sa (the key held) and plucked in a cycle (`models::tanpura`).
     Drone,
+    /// The sitar with its taraf: the played string on the curved jawari, 0 to 13
+    /// sympathetic strings tuned to a thaat of Sa (the root key) and up to three chikari, on
+    /// the two bridges' shared modes (`models::sitar`); a key is the played string's fret.
+    SitarTaraf,
 }
 
 impl ModelKind {
     /// Every model, in parameter index order.
-    pub const ALL: [ModelKind; 6] = [
+    pub const ALL: [ModelKind; 7] = [
         ModelKind::Gong,
         ModelKind::Cymbal,
         ModelKind::RectPlate,
         ModelKind::Sitar,
         ModelKind::Tanpura,
         ModelKind::Drone,
+        ModelKind::SitarTaraf,
     ];
 
     /// The model at parameter index `i` (out-of-range indices give the gong; values that
@@ -56,14 +61,26 @@ impl ModelKind {
         self == Self::Drone
     }
 
+    /// Whether this is the sitar with its taraf.
+    pub fn is_sitar_taraf(self) -> bool {
+        self == Self::SitarTaraf
+    }
+
+    /// Whether this is an instrument of strings on moving bridges (the drone, the sitar with
+    /// its taraf): built and tuned by ear on the worker, with a preview tuned by tension.
+    pub fn is_network(self) -> bool {
+        matches!(self, Self::Drone | Self::SitarTaraf)
+    }
+
     /// Stable names used in presets, in parameter index order.
-    pub const KEYS: [&'static str; 6] = [
+    pub const KEYS: [&'static str; 7] = [
         "gong",
         "cymbal",
         "rect-plate",
         "sitar",
         "tanpura",
         "tanpura-drone",
+        "sitar-taraf",
     ];
 
     /// Stable name used in presets ([`Self::KEYS`]).

@@ -145,6 +145,7 @@ pub mod preset;
 mod readout;
 pub mod resample;
 pub mod scala;
+mod sitar_bank;
 mod string_bank;
 mod telemetry;
 pub mod tuning;
@@ -155,12 +156,13 @@ pub use crate::models::plate::spec::Material;
 pub use audio::{Engine, MAX_HOST_RATE, MIN_HOST_RATE};
 pub use bank::{CHUNK, PLATE_VELOCITY_REF, STRING_VELOCITY_REF};
 pub use drone_bank::DRONE_ANCHORS;
-pub use drone_tuning::{DroneTuning, DRONE_TUNING_BUDGET};
+pub use drone_tuning::{DroneTuning, DRONE_TUNING_BUDGET, SITAR_TUNING_BUDGET};
 pub use events::{Event, EventKind, GuiCommand, NoteExpression, MAX_NOTE_TUNING, MAX_NOTE_VOLUME};
 pub use handle::{EngineHandle, DEBOUNCE};
 pub use kinds::ModelKind;
 pub use memory::{FitReason, ModesFitted};
 pub use mix::SILENCE_RATIO;
+pub use sitar_bank::SITAR_ANCHORS;
 
 /// Slowest host tempo the engine takes (beats per minute; `Engine::set_host_tempo`).
 pub const MIN_TEMPO: f64 = 20.0;
@@ -174,7 +176,7 @@ pub use params::{
     ParamId, ParamInfo, ParamKind, ParamValues, SharedParams, DRONE_PATTERN_KEYS,
     DRONE_PATTERN_NAMES, DRONE_TUNING_KEYS, DRONE_TUNING_NAMES, EXCITER_NAMES, MALLET_HEAD_NAMES,
     MATERIAL_NAMES, MODEL_KEYS, MODEL_NAMES, ON_OFF_NAMES, PARAMS, PARAM_COUNT, SCHEME_KEYS,
-    SCHEME_NAMES,
+    SCHEME_NAMES, THAAT_KEYS, THAAT_NAMES,
 };
 pub use plate_bank::plate_sim_rate;
 pub use pool::in_voice_job;
@@ -188,5 +190,5 @@ pub use tuning::{KeyTuning, SharedTuning, KEY_COUNT};
 pub use voice::{
     mallet_law, DRONE_FORCE_REF, HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60,
     MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_K_HARD, MALLET_K_SOFT, MALLET_LOSS,
-    MALLET_MAX_FLIGHT, REACH_CHECK_STEPS, VOICE_CEILING,
+    MALLET_MAX_FLIGHT, REACH_CHECK_STEPS, SITAR_FORCE_REF, VOICE_CEILING,
 };

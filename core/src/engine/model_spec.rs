@@ -1,6 +1,7 @@
 //! The one conversion from the instrument's parameter values to the models' specifications:
-//! a plate's [`PlateSpec`] and a string's [`StringSpec`], the same tables a scene's `[plate]` and
-//! `[string]` give. The banks build their voices from them (`engine/plate_bank.rs`,
+//! a plate's [`PlateSpec`], a string's [`StringSpec`], the drone's [`TanpuraSpec`] and the
+//! sitar's [`SitarSpec`], the same tables a scene's `[plate]`, `[string]`, `[tanpura]` and
+//! `[sitar]` give. The banks build their voices from them (`engine/plate_bank.rs`,
 //! `engine/string_bank.rs`) through the models' own builders, so a plate or a string is named,
 //! keyed, placed and shaped one way whether a scene or the instrument plays it.
 //!
@@ -18,6 +19,7 @@ use crate::models::plate::spec::{
     TensorStorage,
 };
 use crate::models::quantity::Quantity;
+use crate::models::sitar::{SitarSpec, Thaat};
 use crate::models::string::spec::{
     StringContact, StringExcitation, StringObstacle, StringOutput, StringSpec,
 };
@@ -340,5 +342,42 @@ pub(crate) fn drone_spec(v: &ParamValues, sim_rate: f64) -> TanpuraSpec {
         jivari_mm: vec![v.get(ParamId::Jivari) as f64],
         tune_by_ear: v.index_of(ParamId::DroneEar) == 1,
         ..TanpuraSpec::at(drone_sa(v))
+    }
+}
+
+/// Lowest Sa (Hz) the sitar with its taraf is built at (the scenes' range): a root key
+/// below it builds the sitar there and its keys fret it from there.
+pub(crate) const SITAR_SA_MIN: f64 = 100.0;
+
+/// Highest Sa (Hz) the sitar with its taraf is built at (as [`SITAR_SA_MIN`]).
+pub(crate) const SITAR_SA_MAX: f64 = 600.0;
+
+/// Fewest modes of the sitar's played string.
+pub(crate) const SITAR_MIN_MODES: usize = 32;
+
+/// The Sa (Hz) the sitar of `v` is built and tuned at: the root key's pitch ([`root_hz`]),
+/// within [`SITAR_SA_MIN`] to [`SITAR_SA_MAX`]. Any thread.
+pub(crate) fn sitar_sa(v: &ParamValues) -> f64 {
+    root_hz(v).clamp(SITAR_SA_MIN, SITAR_SA_MAX)
+}
+
+/// The instrument's sitar with its taraf for `v` at `sim_rate` (Hz; at least
+/// [`DRONE_MIN_SIM_RATE`], as the drone), as a scene's `[sitar]` table without a phrase: Sa
+/// and the played string's open note at [`sitar_sa`] (the keys fret it), the thaat, the taraf
+/// and chikari strings, the `modes` parameter (at least [`SITAR_MIN_MODES`]) for the played
+/// string, tuned by ear or not (`drone_ear`); the taraf's modes, the pluck and the strings'
+/// dimensions at the scene's defaults. Not validated here (the sitar's builder validates).
+/// Worker thread.
+pub(crate) fn sitar_spec(v: &ParamValues, sim_rate: f64) -> SitarSpec {
+    let sa = sitar_sa(v);
+    SitarSpec {
+        thaat: Thaat::ALL[v.index_of(ParamId::SitarThaat).min(Thaat::ALL.len() - 1)],
+        taraf: v.index_of(ParamId::TarafStrings),
+        chikari: v.index_of(ParamId::ChikariStrings),
+        modes: v.index_of(ParamId::Modes).max(SITAR_MIN_MODES),
+        // Whole hertz, as the drone's (a host's value comes back a few ulps off).
+        sim_rate: sim_rate.max(DRONE_MIN_SIM_RATE).round(),
+        tune_by_ear: v.index_of(ParamId::DroneEar) == 1,
+        ..SitarSpec::at(sa, sa)
     }
 }

@@ -340,6 +340,7 @@ fn fit_note(b: &mut Bank, slot: usize, budget: f64, share: f64) -> (f64, u64) {
         VoiceModel::Plate(pv) => pv.data.tier_price.last().copied().unwrap_or(0.0),
         VoiceModel::String(sv) => sv.price,
         VoiceModel::Drone(dv) => dv.price,
+        VoiceModel::Sitar(sv) => sv.price,
     };
     let mut shed = 0;
     let room = loop {

@@ -13,8 +13,9 @@
 pub enum Reads {
     /// Every model.
     All,
-    /// The plates and the single strings: every model but the drone (which has its own
-    /// strings' lengths and hears its bridge, not a point of a string).
+    /// The plates and the single strings: every model but the string networks (the drone and
+    /// the sitar with its taraf have their own strings' lengths and hear their bridges, not a
+    /// point of a string).
     Bodies,
     /// The plates (gong, cymbal, rectangle).
     Plates,
@@ -24,12 +25,16 @@ pub enum Reads {
     RectPlate,
     /// The strings (sitar, tanpura).
     Strings,
-    /// The plucked models: the strings and the drone.
+    /// The plucked models: the strings, the drone and the sitar with its taraf.
     Plucked,
     /// The sitar (its curved bridge).
     Sitar,
     /// The tanpura drone (its tuning, strings, jivari and cycle).
     Drone,
+    /// The sitar with its taraf (the taraf's thaat and strings, the chikari).
+    SitarTaraf,
+    /// The string networks: the drone and the sitar with its taraf (tuning by ear).
+    Networks,
     /// The plates made of the custom material (its elastic constants).
     CustomMaterial,
     /// The plates struck by the force pulse (`exciter` = pulse).

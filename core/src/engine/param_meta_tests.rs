@@ -52,6 +52,14 @@ fn each_instrument_reads_its_own_parameters() {
     assert!(!reads(StrikeForce, &drone) && !reads(Size, &drone));
     assert!(!reads(PickupLeftPos, &drone) && reads(PickupLeftPos, &sitar));
     assert!(!reads(Jivari, &sitar) && !reads(DroneCycle, &gong));
+    // The sitar with its taraf: its own rows, the pluck's amplitude and tuning by ear, not the
+    // drone's cycle nor a single string's.
+    let taraf = with(&[(Model, 6.0)]);
+    assert!(reads(SitarThaat, &taraf) && reads(TarafStrings, &taraf));
+    assert!(reads(ChikariStroke, &taraf) && reads(DroneEar, &taraf) && reads(DroneEar, &drone));
+    assert!(reads(PluckAmplitude, &taraf) && !reads(DroneCycle, &taraf));
+    assert!(!reads(Tension, &taraf) && !reads(PickupLeftPos, &taraf) && !reads(Size, &taraf));
+    assert!(!reads(SitarThaat, &drone) && !reads(SitarThaat, &sitar));
 }
 
 /// Every group has parameters, and the row's help names what it reads where it is not
@@ -71,6 +79,8 @@ fn groups_and_help_agree_with_the_rows() {
             Reads::RectPlate => help.contains("rectang"),
             Reads::Strings | Reads::Plucked => help.contains("string"),
             Reads::Sitar => help.contains("sitar"),
+            Reads::SitarTaraf => help.contains("sitar with taraf"),
+            Reads::Networks => help.contains("drone") && help.contains("sitar with taraf"),
             Reads::Mallet | Reads::CustomMallet => help.contains("mallet"),
         };
         assert!(

@@ -80,6 +80,7 @@ pub const MODEL_NAMES: &[&str] = &[
     "sitar",
     "tanpura",
     "tanpura drone",
+    "sitar with taraf",
 ];
 
 /// Preset names of [`ParamId::Model`] values, in index order ([`ModelKind::key`](super::ModelKind::key)).
@@ -97,6 +98,23 @@ pub const DRONE_PATTERN_NAMES: &[&str] = &["three and a pause", "even"];
 
 /// Preset names of [`ParamId::DronePattern`] values, in index order (the scenes' names).
 pub const DRONE_PATTERN_KEYS: &[&str] = &["classic", "even"];
+
+/// Names of [`ParamId::SitarThaat`] values (`models::sitar::Thaat`), their degrees.
+pub const THAAT_NAMES: &[&str] = &[
+    "Bilawal (S R G M P D N)",
+    "Kalyan (S R G M# P D N)",
+    "Khamaj (S R G M P D n)",
+    "Kafi (S R g M P D n)",
+    "Asavari (S R g M P d n)",
+    "Bhairavi (S r g M P d n)",
+    "Bhairav (S r G M P d N)",
+    "Purvi (S r G M# P d N)",
+    "Marwa (S r G M# P D N)",
+    "Todi (S r g M# P d N)",
+];
+
+/// Preset names of [`ParamId::SitarThaat`] values, in index order (the scenes' names).
+pub const THAAT_KEYS: &[&str] = &crate::models::sitar::Thaat::KEYS;
 
 /// Names of the two values of a switch parameter (`limiter`).
 pub const ON_OFF_NAMES: &[&str] = &["off", "on"];
@@ -185,8 +203,8 @@ const LOG: ParamKind = ParamKind::Float { log: true };
 const INT: ParamKind = ParamKind::Int;
 
 params! {
-    Model, "model", "Model", "", 0.0, 5.0, 0.0, ParamKind::Enum { names: MODEL_NAMES, keys: MODEL_KEYS }, true, ModelAndMaterial, All, Plain(""),
-        "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura (one string), tanpura drone (its strings on a moving bridge, plucked in a cycle).";
+    Model, "model", "Model", "", 0.0, 6.0, 0.0, ParamKind::Enum { names: MODEL_NAMES, keys: MODEL_KEYS }, true, ModelAndMaterial, All, Plain(""),
+        "Instrument model: gong, cymbal, rectangular plate, sitar, tanpura (one string), tanpura drone (its strings on a moving bridge, plucked in a cycle), sitar with taraf (the played string, its sympathetic strings and chikari on two bridges).";
     Size, "size", "Size", "m", r::PLATE_SIZE.play_min as f32, r::PLATE_SIZE.play_max as f32, 0.4, LOG, false, ModelAndMaterial, Bodies, Length,
         "Plates: radius (circular) or the side lx (rectangle), a rescale; strings: length, which rebuilds the grid.";
     Thickness, "thickness", "Thickness", "m", r::PLATE_THICKNESS.play_min as f32, r::PLATE_THICKNESS.play_max as f32, 1.0e-3, LOG, false, ModelAndMaterial, Plates, Length,
@@ -313,14 +331,22 @@ params! {
         "Tanpura drone: the cycle's rhythm, the strings at equal gaps then a pause of two gaps (the usual), or evenly over the period.";
     DroneVariation, "drone_variation", "Human variation", "", 0.0, 1.0, 0.0, F, false, Excitation, Drone, Percent,
         "Tanpura drone: how freely the player's hand keeps the cycle: each onset moves by up to 20 ms and each pluck's strength by up to 20 % at 1 (0: the pattern exactly; a seeded variation, the same every time).";
-    DroneEar, "drone_ear", "Tune by ear", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, true, Quality, Drone, Plain(""),
-        "Tanpura drone: on, the worker tunes every string by ear when the drone is built (at the root and 6 and 12 semitones around it, within 0.2 cents; about 18 s for the factory drone, kept in the cache so a drone is tuned once); until it is done the drone plays tuned by its tensions alone, which is off by the seat's, the bridge's and the jawari's pull (up to 4 cents). Off: tensions alone, built at once.";
+    DroneEar, "drone_ear", "Tune by ear", "", 0.0, 1.0, 1.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, true, Quality, Networks, Plain(""),
+        "Tanpura drone and sitar with taraf: on, the worker tunes every string by ear when the instrument is built (the drone at the root and 6 and 12 semitones around it, within 0.2 cents, about 18 s for the factory drone; the sitar's strings at the root and its played string at every key within an octave of it, about 40 s; kept in the cache so each is tuned once); until it is done the strings play tuned by their tensions alone, which is off by the seat's, the bridge's and the jawari's pull (up to 4 cents). Off: tensions alone, built at once.";
     DroneSync, "drone_sync", "Follow the tempo", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Excitation, Drone, Plain(""),
         "Tanpura drone: on, the cycle lasts 'cycle beats' of the host's tempo (from the next cycle whenever the tempo changes) instead of the cycle period; without a tempo from the host the cycle period holds.";
     DroneBeats, "drone_beats", "Cycle beats", "beats", 1.0, 32.0, 8.0, INT, false, Excitation, Drone, Count("beat", "beats"),
         "Tanpura drone with 'follow the tempo' on: the cycle's length in beats of the host's tempo (8 beats at 120 bpm: 4 s), within the cycle period's range of 0.5 to 30 s.";
     DroneLatch, "drone_latch", "Latch", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Excitation, Drone, Plain(""),
         "Tanpura drone: on, the drone keeps plucking after the key is let go, until another key is played or the latch is turned off (then it releases).";
+    SitarThaat, "sitar_thaat", "Taraf thaat", "", 0.0, 9.0, 0.0, ParamKind::Enum { names: THAAT_NAMES, keys: THAAT_KEYS }, true, StringAndBridge, SitarTaraf, Plain(""),
+        "Sitar with taraf: the thaat the taraf is tuned to, its seven notes in just intonation upwards from Sa (the root key) and on into the next octave.";
+    TarafStrings, "taraf_strings", "Taraf strings", "strings", 0.0, 13.0, 11.0, INT, true, StringAndBridge, SitarTaraf, Count("string", "strings"),
+        "Sitar with taraf: its sympathetic strings on their small bridge (a sitar has 11 to 13), ringing when the played string sounds their notes.";
+    ChikariStrings, "chikari_strings", "Chikari", "strings", 0.0, 3.0, 2.0, INT, true, StringAndBridge, SitarTaraf, Count("string", "strings"),
+        "Sitar with taraf: the high drone strings beside the played string on the main bridge's jawari: the upper Sa, the Sa above it, then Pa.";
+    ChikariStroke, "chikari_stroke", "Chikari stroke", "", 0.0, 1.0, 0.0, F, false, Excitation, SitarTaraf, Percent,
+        "Sitar with taraf: each note also strokes the chikari at this fraction of its pluck (the jhala's da-ra on the drone strings; 0: the chikari only ring in sympathy).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).
@@ -438,14 +464,16 @@ impl ParamValues {
         let mallet = plate && self.index_of(ParamId::Exciter) == 1;
         match id.info().reads {
             Reads::All => true,
-            Reads::Bodies => !model.is_drone(),
+            Reads::Bodies => !model.is_network(),
             Reads::Plates => plate,
             Reads::CircularPlates => model.is_circular(),
             Reads::RectPlate => model == ModelKind::RectPlate,
             Reads::Strings => model.is_string(),
-            Reads::Plucked => model.is_string() || model.is_drone(),
+            Reads::Plucked => model.is_string() || model.is_network(),
             Reads::Sitar => model == ModelKind::Sitar,
             Reads::Drone => model.is_drone(),
+            Reads::SitarTaraf => model.is_sitar_taraf(),
+            Reads::Networks => model.is_network(),
             Reads::CustomMaterial => {
                 plate && self.index_of(ParamId::Material) + 1 == MATERIAL_NAMES.len()
             }
@@ -464,11 +492,12 @@ impl ParamValues {
     /// The values of the parameters that trigger a rebuild, in table order, with the others
     /// zeroed: two snapshots need the same bank iff their rebuild keys are equal. For the
     /// string models the size (the string's length, which sets the grid) is
-    /// part of the key, and for the tanpura drone the root key (where it is tuned by ear).
+    /// part of the key, and for the string networks (the drone, the sitar with its taraf) the
+    /// root key (where they are tuned by ear).
     pub fn rebuild_key(&self) -> ParamValues {
         let mut k = *self;
         let string = self.model().is_string();
-        let drone = self.model().is_drone();
+        let drone = self.model().is_network();
         for p in PARAMS {
             if !(p.rebuild || string && p.id == ParamId::Size || drone && p.id == ParamId::RootKey)
             {
@@ -482,7 +511,7 @@ impl ParamValues {
     /// structure), keeping this set's playing values (gain, tuning, damping, ...).
     pub fn take_rebuild_values(&mut self, other: &ParamValues) {
         let string = other.model().is_string();
-        let drone = other.model().is_drone();
+        let drone = other.model().is_network();
         for p in PARAMS {
             if p.rebuild || string && p.id == ParamId::Size || drone && p.id == ParamId::RootKey {
                 self.0[p.id.index()] = other.0[p.id.index()];

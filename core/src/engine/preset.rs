@@ -111,6 +111,10 @@ const FACTORY: &[(&str, &str)] = &[
         "tanpura-drone",
         include_str!("../../../assets/presets/tanpura-drone.toml"),
     ),
+    (
+        "sitar-taraf",
+        include_str!("../../../assets/presets/sitar-taraf.toml"),
+    ),
 ];
 
 /// `x` as the f64 whose shortest decimal text is the f32's shortest text (so a saved preset

@@ -42,6 +42,8 @@ enum Models {
     Strings,
     /// The tanpura drone.
     Drone,
+    /// The sitar with its taraf.
+    SitarTaraf,
 }
 
 impl Models {
@@ -52,11 +54,12 @@ impl Models {
             Models::Plates => model.is_plate(),
             Models::Strings => model.is_string(),
             Models::Drone => model.is_drone(),
+            Models::SitarTaraf => model.is_sitar_taraf(),
         }
     }
 }
 
-const SECTIONS: [Section; 8] = {
+const SECTIONS: [Section; 9] = {
     use ParamId::*;
     [
         Section {
@@ -119,6 +122,19 @@ const SECTIONS: [Section; 8] = {
             ],
             open: true,
             models: Models::Drone,
+        },
+        Section {
+            title: "Sitar",
+            params: &[
+                SitarThaat,
+                TarafStrings,
+                ChikariStrings,
+                ChikariStroke,
+                PluckAmplitude,
+                VelocityCurve,
+            ],
+            open: true,
+            models: Models::SitarTaraf,
         },
         Section {
             title: "Damping",

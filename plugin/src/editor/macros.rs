@@ -139,6 +139,9 @@ pub fn macros(
     if model.is_drone() {
         return drone_macros();
     }
+    if model.is_sitar_taraf() {
+        return sitar_macros();
+    }
     let string = model.is_string();
     let size = Size.info();
     [
@@ -207,6 +210,34 @@ fn drone_macros() -> [(&'static str, &'static str, Vec<Target>); 4] {
             "Looseness",
             "human variation 0 → 1: the player's hand moves the plucks by up to 20 ms and their strength by up to 20 %",
             vec![lin(DroneVariation, 0.0, 1.0)],
+        ),
+    ]
+}
+
+/// The sitar's macros: the mizrab's strength, the chikari stroke, the decay and the taraf's
+/// thaat.
+fn sitar_macros() -> [(&'static str, &'static str, Vec<Target>); 4] {
+    use ParamId::*;
+    [
+        (
+            "Strength",
+            "pluck amplitude 0.3 mm → 3 mm (log): a harder mizrab stroke buzzes more on the jawari",
+            vec![log(PluckAmplitude, 0.3e-3, 3e-3)],
+        ),
+        (
+            "Chikari",
+            "chikari stroke 0 → 100 %: each note strokes the high drone strings too",
+            vec![lin(ChikariStroke, 0.0, 1.0)],
+        ),
+        (
+            "Decay",
+            "damping scale 8 → 0.05 and release T60 0.2 s → 20 s (both log)",
+            vec![log(DampingScale, 8.0, 0.05), log(ReleaseT60, 0.2, 20.0)],
+        ),
+        (
+            "Thaat",
+            "the taraf's thaat, Bilawal → Todi (rebuilds the sitar; each thaat is tuned by ear once, then kept)",
+            vec![lin(SitarThaat, 0.0, 9.0)],
         ),
     ]
 }

@@ -172,12 +172,12 @@ impl EditorApp {
                         RichText::new("Tuning by ear: reduced")
                             .color(Color32::from_rgb(255, 170, 40)),
                     )
-                    .on_hover_text(format!("The drone was {tuning}."));
+                    .on_hover_text(format!("The strings were {tuning}."));
                 }
                 Some(DroneTuning::Tensions { asked: false }) if t.preview => {
                     ui.label(RichText::new("Tuning by ear…")).on_hover_text(
-                        "The drone plays tuned by its tensions while the worker tunes \
-                             every string by ear (done once per drone, then kept)",
+                        "The strings play tuned by their tensions while the worker tunes \
+                             every string by ear (done once per drone or sitar, then kept)",
                     );
                 }
                 _ => {}

@@ -65,6 +65,13 @@ const FINAL: [ParamId; 9] = [
 /// Strings of the largest drone (each stepped every step).
 const DRONE_MAX_STRINGS: usize = 6;
 
+/// The taraf of a sitar burst (each string 48 modes).
+const SITAR_SOAK_TARAF: usize = 3;
+
+/// The modes a sitar burst steps: the played string's fewest (32), the taraf and one chikari
+/// (at most 40 modes, at the lowest Sa).
+const SITAR_SOAK_MODES: usize = 32 + SITAR_SOAK_TARAF * 48 + 40;
+
 /// The jivari (mm) of a drone burst: at 30 mm the drone's strings need only 49 modes.
 const DRONE_JIVARI: f32 = 30.0;
 
@@ -72,14 +79,14 @@ const DRONE_JIVARI: f32 = 30.0;
 const DRONE_STRING_MODES: usize = 49;
 
 /// Whether a change of `p` needs a new bank when the parameters hold `v`: the table's flag,
-/// for the string models the size (the string's length sets the grid) and for the drone the
-/// root key (where it is tuned; see [`ParamValues::rebuild_key`]). The driver automates every
+/// for the string models the size (the string's length sets the grid) and for the string
+/// networks (the drone, the sitar with its taraf) the root key (where it is tuned; see [`ParamValues::rebuild_key`]). The driver automates every
 /// other parameter each block.
 pub fn needs_rebuild(p: &ParamInfo, v: &ParamValues) -> bool {
     let model = v.model();
     p.rebuild
         || (p.id == ParamId::Size && model.is_string())
-        || (p.id == ParamId::RootKey && model.is_drone())
+        || (p.id == ParamId::RootKey && model.is_network())
 }
 
 /// One intermediate step of a burst: each rebuild parameter outside the final step's set is
@@ -144,6 +151,14 @@ pub fn finish(
         modes = 4;
         poly = 1;
     }
+    if kind.is_sitar_taraf() {
+        // The sitar steps every string: a played string of its fewest modes, a small taraf
+        // and one chikari, at a rate within the budget, one voice.
+        let cap = cfg.budget / SITAR_SOAK_MODES as f64;
+        sim_rate = sim_rate.min(cap).max(DRONE_MIN_SIM_RATE).round();
+        modes = 4;
+        poly = 1;
+    }
     let scheme = d.value(info(ParamId::Scheme));
     // The rate the bank will run at (the parameters are `f32`).
     let rate_of = |sim_rate: f64, band: f64| {
@@ -185,6 +200,8 @@ pub fn finish(
     // and keeps its coarsest grid.
     params.set(ParamId::DroneEar, 0.0)?;
     params.set(ParamId::Jivari, DRONE_JIVARI)?;
+    params.set(ParamId::TarafStrings, SITAR_SOAK_TARAF as f32)?;
+    params.set(ParamId::ChikariStrings, 1.0)?;
     params.set(ParamId::Scheme, scheme)?;
     params.set(ParamId::Modes, modes as f32)?;
     params.set(ParamId::InPlaneModes, in_plane as f32)?;

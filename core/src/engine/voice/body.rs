@@ -1,6 +1,7 @@
 //! What a voice's model implements ([`VoiceBody`]): the lifecycle the engine drives and what
 //! it reads back, the one interface between the engine's notes and an instrument's physics.
-//! The plate ([`PlateVoice`]) and the string ([`StringVoice`]) implement it; a new instrument
+//! The plate ([`PlateVoice`]), the string ([`StringVoice`]), the drone ([`DroneVoice`]) and
+//! the sitar (`super::sitar`) implement it; a new instrument
 //! implements it and the engine's note handling, mixing, governor and telemetry take it as it
 //! is (a voice holds its body as [`super::VoiceModel`] and reaches it through
 //! [`super::VoiceModel::body`]).
@@ -19,6 +20,7 @@ use super::mapping::{Physics, VOICE_CEILING};
 use super::plate::PlateVoice;
 use super::strike::{commit_plate, commit_string, PendingStrike};
 use super::string::StringVoice;
+use super::string_view::{mode_spectrum, sample_grid, snapshot_fraction};
 use crate::engine::params::ParamValues;
 use crate::engine::telemetry::{DroneView, VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
 use crate::models::source::EnergyTerms;
@@ -76,6 +78,13 @@ pub(crate) trait VoiceBody {
     /// Default: the total energy.
     fn level_energy(&self) -> f64 {
         self.energy_terms().total()
+    }
+
+    /// Whether a new key on the sounding voice keeps the model's motion (a sitar's next fret:
+    /// its strings ring on and the played string is plucked again at the new pitch). Default:
+    /// no (a new key starts the model at rest).
+    fn legato(&self) -> bool {
+        false
     }
 
     /// Whether the model plays on by itself after its key is released (a latched drone's
@@ -253,21 +262,8 @@ impl VoiceBody for StringVoice {
         amp: &mut [f32; SPECTRUM_MODES],
     ) {
         let u = self.model.grid_displacement();
-        let n = u.len() + 1; // intervals
-        for (p, d) in disp.iter_mut().enumerate() {
-            // Node position x = (p + 1) / (P + 1) of the length, interpolated.
-            let xi = (p + 1) as f64 / (SNAPSHOT_POINTS + 1) as f64 * n as f64;
-            let i = xi.floor() as usize;
-            let w = xi - i as f64;
-            let at = |k: usize| if k == 0 || k >= n { 0.0 } else { u[k - 1] };
-            *d = ((1.0 - w) * at(i) + w * at(i + 1)) as f32;
-        }
-        let q = self.model.modal_displacement();
-        let params = self.model.params();
-        for j in 0..q.len().min(SPECTRUM_MODES) {
-            freq[j] = (params.omega(j + 1) / std::f64::consts::TAU) as f32;
-            amp[j] = q[j].abs() as f32;
-        }
+        sample_grid(u, disp, snapshot_fraction);
+        mode_spectrum(&self.model, freq, amp);
     }
 }
 

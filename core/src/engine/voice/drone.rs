@@ -13,6 +13,7 @@
 
 use super::mapping::{pitch_ratio, release_sigma, Physics};
 use super::strike::PendingStrike;
+use super::string_view::{mode_spectrum, sample_grid, snapshot_fraction};
 use crate::engine::model_spec::{drone_jitter, drone_pattern, root_hz};
 use crate::engine::params::{ParamId, ParamValues};
 use crate::engine::telemetry::{
@@ -203,33 +204,25 @@ impl DroneVoice {
         }
     }
 
-    /// The watched string's displacement (m) and its lowest modes (Hz, `|q_j|`).
+    /// The watched string's displacement (m, from its grid: one inverse transform) and its
+    /// lowest modes (Hz, `|q_j|`).
     pub fn snapshot(
         &mut self,
         disp: &mut [f32; SNAPSHOT_POINTS],
         freq: &mut [f32; SPECTRUM_MODES],
         amp: &mut [f32; SPECTRUM_MODES],
     ) {
-        let strings = self.model.network().strings();
-        let Some(s) = strings.get(WATCHED_STRING).or(strings.first()) else {
+        let n = self.model.network().strings().len();
+        if n == 0 {
             return;
-        };
-        let params = s.params();
-        let q = s.modal_displacement();
-        let length = params.length;
-        for (p, d) in disp.iter_mut().enumerate() {
-            let x = (p + 1) as f64 / (SNAPSHOT_POINTS + 1) as f64 * length;
-            // The modal sum at x (O(N) per point, SNAPSHOT_POINTS points).
-            *d = q
-                .iter()
-                .enumerate()
-                .map(|(j, &qj)| qj * params.mode_shape(j + 1, x))
-                .sum::<f64>() as f32;
         }
-        for j in 0..q.len().min(SPECTRUM_MODES) {
-            freq[j] = (params.omega(j + 1) / std::f64::consts::TAU) as f32;
-            amp[j] = q[j].abs() as f32;
-        }
+        let i = WATCHED_STRING.min(n - 1);
+        sample_grid(
+            self.model.string_grid_displacement(i),
+            disp,
+            snapshot_fraction,
+        );
+        mode_spectrum(&self.model.network().strings()[i], freq, amp);
     }
 
     /// Fills `view`: every string's note, energy and displacement (the grid's, sampled at
@@ -246,21 +239,12 @@ impl DroneVoice {
             view.ratio[i] = self.model.ratios()[i] as f32;
             view.onsets[i] = self.model.onset(i) as f32;
             view.energy[i] = self.model.network().string_energy(i).total() as f32;
-            let u = self.model.string_grid_displacement(i);
-            let intervals = u.len() + 1;
-            for (p, d) in view.displacement[i].iter_mut().enumerate() {
-                let xi = p as f64 / (DRONE_VIEW_POINTS - 1) as f64 * intervals as f64;
-                let k = (xi.floor() as usize).min(intervals - 1);
-                let w = xi - k as f64;
-                let at = |j: usize| {
-                    if j == 0 || j >= intervals {
-                        0.0
-                    } else {
-                        u[j - 1]
-                    }
-                };
-                *d = ((1.0 - w) * at(k) + w * at(k + 1)) as f32;
-            }
+            // The whole string, both ends included.
+            sample_grid(
+                self.model.string_grid_displacement(i),
+                &mut view.displacement[i],
+                |p| p as f64 / (DRONE_VIEW_POINTS - 1) as f64,
+            );
         }
     }
 }

@@ -32,8 +32,10 @@ mod mallet;
 mod mapping;
 pub mod modulation;
 mod plate;
+mod sitar;
 mod strike;
 mod string;
+mod string_view;
 
 pub use mallet::{
     mallet_law, MALLET_ALPHA_HARD, MALLET_ALPHA_SOFT, MALLET_K_HARD, MALLET_K_SOFT, MALLET_LOSS,
@@ -49,6 +51,8 @@ pub use drone::DRONE_FORCE_REF;
 pub(crate) use hand_placement::hand_radius;
 pub use hand_placement::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
 pub(crate) use plate::{tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION};
+pub(crate) use sitar::SitarVoice;
+pub use sitar::SITAR_FORCE_REF;
 pub(crate) use string::StringVoice;
 
 use super::params::ParamId;
@@ -58,11 +62,12 @@ pub(crate) use body::VoiceBody;
 use modulation::NoteOverrides;
 use strike::PendingStrike;
 
-/// The model of a voice: a plate, a string or the drone, each a [`VoiceBody`].
+/// The model of a voice: a plate, a string, the drone or the sitar, each a [`VoiceBody`].
 pub(crate) enum VoiceModel {
     Plate(Box<PlateVoice>),
     String(Box<StringVoice>),
     Drone(Box<DroneVoice>),
+    Sitar(Box<SitarVoice>),
 }
 
 impl VoiceModel {
@@ -72,6 +77,7 @@ impl VoiceModel {
             Self::Plate(pv) => pv.as_mut(),
             Self::String(sv) => sv.as_mut(),
             Self::Drone(dv) => dv.as_mut(),
+            Self::Sitar(sv) => sv.as_mut(),
         }
     }
 
@@ -81,6 +87,7 @@ impl VoiceModel {
             Self::Plate(pv) => pv.as_ref(),
             Self::String(sv) => sv.as_ref(),
             Self::Drone(dv) => dv.as_ref(),
+            Self::Sitar(sv) => sv.as_ref(),
         }
     }
 }
@@ -191,7 +198,8 @@ impl Voice {
     }
 
     /// Starts note `key` at velocity `vel` (0..1] with mod wheel `wheel` (0..1). A voice
-    /// already playing the same key is struck again without a reset (plates: a new force
+    /// already playing the same key, or any key of a legato model (the sitar:
+    /// [`VoiceBody::legato`]), is struck again without a reset (plates: a new force
     /// pulse, or with `exciter = mallet` a mallet launched at `mallet_speed · vel^curve` (times
     /// the wheel's factor) against the moving plate; strings: the pluck's shape added to the
     /// motion). Returns `false` (voice left silent)
@@ -208,7 +216,10 @@ impl Voice {
         // A string not yet plucked (a fresh note whose pluck is still pending) stays fresh.
         let fresh = !same || self.pending.is_some_and(|s| s.fresh);
         if !same {
-            self.reset();
+            // A legato model (the sitar) keeps its motion into the new key.
+            if !(self.active && self.model.body_ref().legato()) {
+                self.reset();
+            }
             self.model.body().begin(p, key);
         }
         self.key = key;
