@@ -143,3 +143,41 @@ fn a_governed_drone_bank_carries_the_trials_price() {
     assert_eq!(measured[0], measured[1]);
     assert_ne!(measured[0], prior[0]);
 }
+
+/// A sitar bank (three taraf strings at 48 kHz, tuned by its tensions so it builds at once) is
+/// priced as the drone's: the prior estimate off the governor, a trial under it, the same price
+/// on every voice.
+#[test]
+fn a_governed_sitar_bank_carries_the_trials_price() {
+    let mut v = crate::engine::Preset::factory_named("sitar-taraf")
+        .expect("factory preset")
+        .values()
+        .expect("valid");
+    v.0[ParamId::Polyphony.index()] = 2.0;
+    v.0[ParamId::DroneEar.index()] = 0.0;
+    v.0[ParamId::TarafStrings.index()] = 3.0;
+    v.0[ParamId::SimRate.index()] = 48_000.0;
+    let mut cache = ModalCache::default();
+    let prices = |b: &Bank| -> Vec<f64> {
+        b.voices
+            .iter()
+            .map(|voice| match &voice.model {
+                VoiceModel::Sitar(sv) => sv.price,
+                _ => unreachable!("a sitar bank"),
+            })
+            .collect()
+    };
+    let prior = prices(&bank(&v, &mut cache, false));
+    assert!(prior[0] > 0.0 && prior[0] == prior[1]);
+    if thread_cpu_time().is_none() {
+        return;
+    }
+    let measured = prices(&bank(&v, &mut cache, true));
+    println!(
+        "sitar step: prior {:.2e} s, measured {:.2e} s",
+        prior[0], measured[0]
+    );
+    assert!(measured[0].is_finite() && measured[0] > 0.0);
+    assert_eq!(measured[0], measured[1]);
+    assert_ne!(measured[0], prior[0]);
+}
