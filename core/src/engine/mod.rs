@@ -138,6 +138,7 @@ pub mod output;
 pub mod param_meta;
 #[cfg(test)]
 mod param_meta_tests;
+mod param_names;
 pub mod params;
 mod plate_bank;
 mod pool;
