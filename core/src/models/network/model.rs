@@ -7,7 +7,8 @@ use super::solve::{BridgeSolve, NetworkStats};
 use crate::error::ParamError;
 use crate::models::source::EnergyTerms;
 use crate::models::string::model::FreeStep;
-use crate::models::string::{Quantity, StiffString, StrikeForce, TrianglePluck};
+use crate::models::string::params::Stiffness;
+use crate::models::string::{Quantity, StiffString, StrikeForce, TrianglePluck, ValetteLosses};
 
 /// A resolved output channel.
 #[derive(Debug, Clone)]
@@ -238,6 +239,27 @@ impl StringNetwork {
     /// before the first step and for controls such as the hand).
     pub fn string_mut(&mut self, string: usize) -> &mut StiffString {
         &mut self.strings[string]
+    }
+
+    /// Retunes string `string` to `tension` (N), its bending stiffness kept, its Valette
+    /// losses (the default law) times `damping` and at least the decay rate `floor` (1/s)
+    /// ([`StiffString::retune`], which books the change of energy as work). The caller checks
+    /// the inputs (an index in range, a finite positive tension, a finite damping and floor
+    /// ≥ 0); `false` if the string refused them anyway. Stepping thread; no allocation,
+    /// O(modes).
+    pub fn retune_string(&mut self, string: usize, tension: f64, damping: f64, floor: f64) -> bool {
+        let Some(s) = self.strings.get_mut(string) else {
+            return false;
+        };
+        let ei = s.params().bending_stiffness();
+        s.retune(
+            tension,
+            Stiffness::BendingStiffness(ei),
+            Some(&ValetteLosses::default()),
+            damping,
+            floor,
+        )
+        .is_ok()
     }
 
     /// The bridge.

@@ -6,8 +6,7 @@ use super::spec::{SitarSpec, CHIKARI_PAN};
 use super::tuning::{phrase_notes, plucks, tune, tune_cached};
 use crate::error::ParamError;
 use crate::models::network::{BridgeInstrument, StringNetwork};
-use crate::models::string::params::Stiffness;
-use crate::models::string::{TrianglePluck, ValetteLosses};
+use crate::models::string::TrianglePluck;
 use crate::models::tanpura::instrument::{pan_gains, RetuneRefusal};
 use crate::models::tanpura::{SaMap, TunedStrings, TuningSource};
 use std::path::Path;
@@ -237,7 +236,6 @@ impl Sitar {
         if !(tension.is_finite() && tension > 0.0) {
             return Err(RetuneRefusal::Tension);
         }
-        let losses = ValetteLosses::default();
         let strings = if (damping, floor) == self.losses {
             1
         } else {
@@ -245,20 +243,8 @@ impl Sitar {
         };
         for i in 0..strings {
             let t = if i == 0 { tension } else { self.tensions[i] };
-            // Kept through the retune (the strings are built, and retuned, with it).
-            let ei = self.network.strings()[i].params().bending_stiffness();
             // The inputs are checked above: the string cannot refuse them.
-            let ok = self
-                .network
-                .string_mut(i)
-                .retune(
-                    t,
-                    Stiffness::BendingStiffness(ei),
-                    Some(&losses),
-                    damping,
-                    floor,
-                )
-                .is_ok();
+            let ok = self.network.retune_string(i, t, damping, floor);
             debug_assert!(ok);
         }
         self.ratio = ratio;

@@ -7,8 +7,7 @@ use super::tune::pluck_of;
 use super::tuning_cache::{tune_cached, TunedStrings, TuningSource};
 use crate::error::{check_closed, ParamError};
 use crate::models::network::{BridgeInstrument, StringNetwork};
-use crate::models::string::params::Stiffness;
-use crate::models::string::{TrianglePluck, ValetteLosses};
+use crate::models::string::TrianglePluck;
 use std::path::Path;
 
 /// Why [`Tanpura::try_retune`] refused (plain data: no allocation on the stepping thread).
@@ -219,23 +218,10 @@ impl Tanpura {
         {
             return Err(RetuneRefusal::Tension);
         }
-        let losses = ValetteLosses::default();
         for i in 0..self.tensions.len() {
             let t = tension(i, self.tensions[i]);
-            // Kept through the retune (the strings are built, and retuned, with it).
-            let ei = self.network.strings()[i].params().bending_stiffness();
             // The inputs are checked above: the string cannot refuse them.
-            let ok = self
-                .network
-                .string_mut(i)
-                .retune(
-                    t,
-                    Stiffness::BendingStiffness(ei),
-                    Some(&losses),
-                    damping,
-                    floor,
-                )
-                .is_ok();
+            let ok = self.network.retune_string(i, t, damping, floor);
             debug_assert!(ok);
         }
         self.ratio = ratio;
