@@ -14,8 +14,8 @@
 //!   tests and benchmarks start from;
 //! - [`soak`]: the real-time soak, a seeded random host driving the engine (`tests/robustness`,
 //!   `examples/soak.rs`);
-//! - [`take`]: the engine tests' one render loop (a stereo take with the first block's events)
-//!   and its peak and RMS.
+//! - [`take`]: the engine tests' render loops (a stereo take with the first block's events,
+//!   a script of events, or blocks with the voice's energy after each) and its peak and RMS.
 
 pub mod alloc;
 pub mod env;

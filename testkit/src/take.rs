@@ -106,3 +106,45 @@ pub fn rms(x: &[f32]) -> f64 {
 pub fn rms_f64(x: &[f64]) -> f64 {
     (x.iter().map(|v| v * v).sum::<f64>() / x.len() as f64).sqrt()
 }
+
+/// What [`run_blocks`] gave: the left output and the first voice's total energy after each
+/// block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BlockRun {
+    /// Left channel (the engine's output units).
+    pub left: Vec<f64>,
+    /// Voice 0's total energy (J) after each block; 0 once the voice has ended.
+    pub energy: Vec<f64>,
+}
+
+/// Plays `blocks` blocks of `block` host samples, each `(index, event)` of `events` at offset
+/// 0 of the block of that index, each block inside `assert_no_alloc`; panics on a sample that
+/// is not finite or over full scale. The loop of the tests of a voice that lives across notes
+/// (the drone, the sitar), which look at the voice's energy after every block.
+pub fn run_blocks(
+    e: &mut Engine,
+    events: &[(usize, EventKind)],
+    blocks: usize,
+    block: usize,
+) -> BlockRun {
+    let (mut l, mut r) = (vec![0.0f32; block], vec![0.0f32; block]);
+    let mut out = BlockRun {
+        left: Vec::with_capacity(blocks * block),
+        energy: Vec::with_capacity(blocks),
+    };
+    for b in 0..blocks {
+        let ev: Vec<Event> = events
+            .iter()
+            .filter(|(at, _)| *at == b)
+            .map(|&(_, kind)| Event { offset: 0, kind })
+            .collect();
+        assert_no_alloc::assert_no_alloc(|| e.process_events(&ev, &mut l, &mut r));
+        for &x in l.iter().chain(&r) {
+            assert!(x.is_finite() && x.abs() <= 1.0, "block {b}: output {x}");
+        }
+        out.left.extend(l.iter().map(|&x| f64::from(x)));
+        out.energy
+            .push(e.voice_energy(0).map_or(0.0, |t| t.total()));
+    }
+    out
+}

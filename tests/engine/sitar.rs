@@ -5,11 +5,11 @@
 //! sympathy and energy are verified in `tests/strings/sitar.rs`; here the engine must play
 //! that model as the keyboard asks.
 
-use assert_no_alloc::assert_no_alloc;
 use noether::analysis::fundamental::fundamental_near;
-use noether::engine::{Engine, Event, EventKind, ParamId};
+use noether::engine::{Engine, EventKind, ParamId};
 use noether::models::tanpura::tune::{LISTEN_FROM, LISTEN_TO};
 use noether_testkit::presets::preset_params;
+use noether_testkit::take::{run_blocks, BlockRun};
 
 const RATE: f64 = 48_000.0;
 /// Host samples per block (2.67 ms).
@@ -35,36 +35,10 @@ fn sitar(sets: &[(ParamId, f32)]) -> Engine {
     e
 }
 
-/// What a run of blocks gave: the left output, and the voice's total energy after each block
-/// (0 once the voice has ended).
-struct Run {
-    left: Vec<f64>,
-    energy: Vec<f64>,
-}
-
-/// Plays `blocks` blocks, `events` at their block indices, each block inside
-/// `assert_no_alloc`; checks every sample is finite and within full scale.
-fn run(e: &mut Engine, events: &[(usize, EventKind)], blocks: usize) -> Run {
-    let (mut l, mut r) = (vec![0.0f32; BLOCK], vec![0.0f32; BLOCK]);
-    let mut out = Run {
-        left: Vec::with_capacity(blocks * BLOCK),
-        energy: Vec::with_capacity(blocks),
-    };
-    for b in 0..blocks {
-        let ev: Vec<Event> = events
-            .iter()
-            .filter(|(at, _)| *at == b)
-            .map(|&(_, kind)| Event { offset: 0, kind })
-            .collect();
-        assert_no_alloc(|| e.process_events(&ev, &mut l, &mut r));
-        for &x in l.iter().chain(&r) {
-            assert!(x.is_finite() && x.abs() <= 1.0, "block {b}: output {x}");
-        }
-        out.left.extend(l.iter().map(|&x| f64::from(x)));
-        out.energy
-            .push(e.voice_energy(0).map_or(0.0, |t| t.total()));
-    }
-    out
+/// Plays `blocks` blocks of [`BLOCK`] samples (`noether_testkit::take::run_blocks`: no
+/// allocation, every sample within full scale).
+fn run(e: &mut Engine, events: &[(usize, EventKind)], blocks: usize) -> BlockRun {
+    run_blocks(e, events, blocks, BLOCK)
 }
 
 fn blocks(seconds: f64) -> usize {

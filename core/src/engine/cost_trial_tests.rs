@@ -107,26 +107,29 @@ fn a_governed_string_bank_carries_the_trials_price() {
     assert!(b.voices.iter().all(|v| !v.active));
 }
 
-/// A drone bank (tuned by its tensions, so it builds at once) is priced by the prior estimate
-/// off the governor and by a trial under it: every voice carries the trial's price, which is
-/// positive and finite, and differs from the prior (a trial that timed nothing would leave the
-/// prior, or 0).
-#[test]
-fn a_governed_drone_bank_carries_the_trials_price() {
-    let mut v = crate::engine::Preset::factory_named("tanpura-drone")
+/// Two voices of the factory `preset` with `sets` (tuned by their tensions, so the bank builds
+/// at once) are priced by the prior estimate off the governor and by a trial under it: every
+/// voice carries the trial's price (`price_of` reads it), which is positive and finite, and
+/// differs from the prior (a trial that timed nothing would leave the prior, or 0).
+fn assert_priced_by_its_trial(
+    preset: &str,
+    sets: &[(ParamId, f32)],
+    price_of: fn(&VoiceModel) -> Option<f64>,
+) {
+    let mut v = crate::engine::Preset::factory_named(preset)
         .expect("factory preset")
         .values()
         .expect("valid");
     v.0[ParamId::Polyphony.index()] = 2.0;
     v.0[ParamId::DroneEar.index()] = 0.0;
+    for &(id, x) in sets {
+        v.0[id.index()] = x;
+    }
     let mut cache = ModalCache::default();
     let prices = |b: &Bank| -> Vec<f64> {
         b.voices
             .iter()
-            .map(|voice| match &voice.model {
-                VoiceModel::Drone(dv) => dv.price,
-                _ => unreachable!("a drone bank"),
-            })
+            .map(|voice| price_of(&voice.model).expect("a voice of the preset's model"))
             .collect()
     };
     let prior = prices(&bank(&v, &mut cache, false));
@@ -136,7 +139,7 @@ fn a_governed_drone_bank_carries_the_trials_price() {
     }
     let measured = prices(&bank(&v, &mut cache, true));
     println!(
-        "drone step: prior {:.2e} s, measured {:.2e} s",
+        "{preset} step: prior {:.2e} s, measured {:.2e} s",
         prior[0], measured[0]
     );
     assert!(measured[0].is_finite() && measured[0] > 0.0);
@@ -144,40 +147,21 @@ fn a_governed_drone_bank_carries_the_trials_price() {
     assert_ne!(measured[0], prior[0]);
 }
 
-/// A sitar bank (three taraf strings at 48 kHz, tuned by its tensions so it builds at once) is
-/// priced as the drone's: the prior estimate off the governor, a trial under it, the same price
-/// on every voice.
+/// A drone bank is priced by its trial ([`assert_priced_by_its_trial`]).
+#[test]
+fn a_governed_drone_bank_carries_the_trials_price() {
+    assert_priced_by_its_trial("tanpura-drone", &[], |m| match m {
+        VoiceModel::Drone(dv) => Some(dv.price),
+        _ => None,
+    });
+}
+
+/// A sitar bank (three taraf strings at 48 kHz) is priced by its trial as the drone's.
 #[test]
 fn a_governed_sitar_bank_carries_the_trials_price() {
-    let mut v = crate::engine::Preset::factory_named("sitar-taraf")
-        .expect("factory preset")
-        .values()
-        .expect("valid");
-    v.0[ParamId::Polyphony.index()] = 2.0;
-    v.0[ParamId::DroneEar.index()] = 0.0;
-    v.0[ParamId::TarafStrings.index()] = 3.0;
-    v.0[ParamId::SimRate.index()] = 48_000.0;
-    let mut cache = ModalCache::default();
-    let prices = |b: &Bank| -> Vec<f64> {
-        b.voices
-            .iter()
-            .map(|voice| match &voice.model {
-                VoiceModel::Sitar(sv) => sv.price,
-                _ => unreachable!("a sitar bank"),
-            })
-            .collect()
-    };
-    let prior = prices(&bank(&v, &mut cache, false));
-    assert!(prior[0] > 0.0 && prior[0] == prior[1]);
-    if thread_cpu_time().is_none() {
-        return;
-    }
-    let measured = prices(&bank(&v, &mut cache, true));
-    println!(
-        "sitar step: prior {:.2e} s, measured {:.2e} s",
-        prior[0], measured[0]
-    );
-    assert!(measured[0].is_finite() && measured[0] > 0.0);
-    assert_eq!(measured[0], measured[1]);
-    assert_ne!(measured[0], prior[0]);
+    let sets = [(ParamId::TarafStrings, 3.0), (ParamId::SimRate, 48_000.0)];
+    assert_priced_by_its_trial("sitar-taraf", &sets, |m| match m {
+        VoiceModel::Sitar(sv) => Some(sv.price),
+        _ => None,
+    });
 }

@@ -18,10 +18,10 @@
 //!
 //! Worker thread (allocates).
 
-use super::cost_trial::{time_note, Jobs};
+use super::cost_trial::Jobs;
 pub use super::drone_tuning::{DroneTuning, DRONE_TUNING_BUDGET};
-use super::governor::PRIOR_SECONDS_PER_UNIT;
 use super::model_spec::drone_spec;
+use super::network_bank::{self, planned_anchors, priced_voices, prior_step_seconds};
 use super::params::ParamValues;
 use super::voice::{DroneVoice, Voice, VoiceModel};
 use crate::error::ParamError;
@@ -37,31 +37,17 @@ pub const DRONE_ANCHORS: [f64; 4] = [-12.0, -6.0, 6.0, 12.0];
 /// How `spec` is tuned within [`DRONE_TUNING_BUDGET`]: by ear at every anchor, at the root
 /// only, or by the tensions (module doc). Any thread.
 fn tuning_plan(spec: &TanpuraSpec) -> DroneTuning {
-    let asked = spec.tune_by_ear;
-    if !asked {
-        DroneTuning::Tensions { asked }
-    } else if tuning_seconds(spec, 1 + DRONE_ANCHORS.len()) <= DRONE_TUNING_BUDGET {
-        DroneTuning::ByEar
-    } else if tuning_seconds(spec, 1) <= DRONE_TUNING_BUDGET {
-        DroneTuning::RootOnly
-    } else {
-        DroneTuning::Tensions { asked }
-    }
+    let full = tuning_seconds(spec, 1 + DRONE_ANCHORS.len());
+    let root = tuning_seconds(spec, 1);
+    network_bank::tuning_plan(spec.tune_by_ear, full, root, DRONE_TUNING_BUDGET)
 }
 
 /// The prior CPU time (s) of tuning `spec` by ear at `keys` keys: every string plucked alone
 /// for `TUNE_PASSES` passes of `LISTEN_TO` s of the whole network, at the prior price of a step.
 fn tuning_seconds(spec: &TanpuraSpec, keys: usize) -> f64 {
     let sim_seconds = (TUNE_PASSES * spec.strings * keys) as f64 * LISTEN_TO;
-    let step = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * (spec.strings * spec.modes) as f64;
-    sim_seconds * spec.sim_rate * step
+    sim_seconds * spec.sim_rate * prior_step_seconds(spec.strings * spec.modes)
 }
-
-/// Prior work units of one drone step per string mode: the bridge solve evaluates every
-/// string's contact about three times a step (two Newton iterations and the commit) on top of
-/// the modal passes (docs/performance.md, "The tanpura drone": 0.41 of a core for 4 × 480
-/// modes at 48 kHz, 8.5 µs a step, 2.2 units of [`PRIOR_SECONDS_PER_UNIT`] per string mode).
-const UNITS_PER_STRING_MODE: f64 = 2.5;
 
 /// The drone voices of a bank for the parameters `v` run as `jobs` says, `voices_n` copies of
 /// one drone, priced by a trial when `share` says the CPU governor is on. Worker thread.
@@ -73,17 +59,11 @@ pub(super) fn drone_voices(
 ) -> Result<(Vec<Voice>, DroneTuning), ParamError> {
     let mut spec = drone_spec(v, jobs.sim);
     let tuning = tuning_plan(&spec);
-    let anchors: &[f64] = match tuning {
-        DroneTuning::ByEar => &DRONE_ANCHORS,
-        DroneTuning::RootOnly => &[],
-        DroneTuning::Tensions { .. } => {
-            spec.tune_by_ear = false;
-            &[]
-        }
-    };
+    let (anchors, by_ear) = planned_anchors(tuning, &DRONE_ANCHORS);
+    spec.tune_by_ear = by_ear;
     let dir = default_cache_dir();
     let (drone, _) = Tanpura::build_cached(&spec, anchors, Some(&dir))?;
-    Ok((voices_of(drone, v, jobs, voices_n, share)?, tuning))
+    Ok((voices_of(drone, v, jobs, voices_n, share), tuning))
 }
 
 /// [`drone_voices`] tuned by the strings' tensions alone (no tuning by ear): the preview a live
@@ -96,7 +76,7 @@ pub(super) fn drone_preview(
     let mut spec = drone_spec(v, jobs.sim);
     spec.tune_by_ear = false;
     let drone = Tanpura::build(&spec)?;
-    voices_of(drone, v, jobs, voices_n, None)
+    Ok(voices_of(drone, v, jobs, voices_n, None))
 }
 
 /// `voices_n` voices of `drone`, priced (module doc). Worker thread.
@@ -106,28 +86,14 @@ fn voices_of(
     jobs: Jobs,
     voices_n: usize,
     share: Option<f64>,
-) -> Result<Vec<Voice>, ParamError> {
-    let string_modes: usize = drone
-        .network()
-        .strings()
-        .iter()
-        .map(|s| s.params().modes())
-        .sum();
-    let prior = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * string_modes as f64;
+) -> Vec<Voice> {
     let voice = |price| {
         Voice::new(VoiceModel::Drone(Box::new(DroneVoice::new(
             drone.clone(),
             price,
         ))))
     };
-    let mut price = prior;
-    if share.is_some() {
-        let mut trial = voice(prior);
-        if let Some(load) = time_note(&mut trial, v, jobs) {
-            price = load.price;
-        }
-    }
-    Ok((0..voices_n).map(|_| voice(price)).collect())
+    priced_voices(drone.network(), voice, v, jobs, voices_n, share)
 }
 
 #[cfg(test)]

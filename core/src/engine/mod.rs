@@ -132,6 +132,7 @@ mod meters;
 pub mod midi;
 mod mix;
 mod model_spec;
+mod network_bank;
 mod note_state;
 mod notes;
 pub mod output;

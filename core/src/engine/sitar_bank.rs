@@ -16,10 +16,10 @@
 //!
 //! Worker thread (allocates).
 
-use super::cost_trial::{time_note, Jobs};
+use super::cost_trial::Jobs;
 use super::drone_tuning::{DroneTuning, SITAR_TUNING_BUDGET};
-use super::governor::PRIOR_SECONDS_PER_UNIT;
 use super::model_spec::sitar_spec;
+use super::network_bank::{self, planned_anchors, priced_voices, prior_step_seconds};
 use super::params::ParamValues;
 use super::voice::{SitarVoice, Voice, VoiceModel};
 use crate::error::ParamError;
@@ -38,11 +38,6 @@ pub const SITAR_ANCHORS: [f64; 24] = [
     5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0,
 ];
 
-/// Prior work units of one sitar step per string mode (as the drone's: the bridge solve
-/// evaluates the jawari strings' contacts about three times a step on top of the modal
-/// passes; docs/performance.md).
-const UNITS_PER_STRING_MODE: f64 = 2.5;
-
 /// The string modes of `spec`: every string's.
 fn string_modes(spec: &SitarSpec) -> usize {
     (0..spec.strings()).map(|i| spec.geometry(i).2).sum()
@@ -52,23 +47,15 @@ fn string_modes(spec: &SitarSpec) -> usize {
 /// simulated for `TUNE_PASSES` passes of `LISTEN_TO` s per string and per fret.
 fn tuning_seconds(spec: &SitarSpec, frets: usize) -> f64 {
     let sim_seconds = (TUNE_PASSES * (spec.strings() + frets)) as f64 * LISTEN_TO;
-    let step = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * string_modes(spec) as f64;
-    sim_seconds * spec.sim_rate * step
+    sim_seconds * spec.sim_rate * prior_step_seconds(string_modes(spec))
 }
 
 /// How `spec` is tuned within [`SITAR_TUNING_BUDGET`]: by ear at every anchor, at the open
 /// notes only, or by the tensions. Any thread.
 fn tuning_plan(spec: &SitarSpec) -> DroneTuning {
-    let asked = spec.tune_by_ear;
-    if !asked {
-        DroneTuning::Tensions { asked }
-    } else if tuning_seconds(spec, SITAR_ANCHORS.len()) <= SITAR_TUNING_BUDGET {
-        DroneTuning::ByEar
-    } else if tuning_seconds(spec, 0) <= SITAR_TUNING_BUDGET {
-        DroneTuning::RootOnly
-    } else {
-        DroneTuning::Tensions { asked }
-    }
+    let full = tuning_seconds(spec, SITAR_ANCHORS.len());
+    let open = tuning_seconds(spec, 0);
+    network_bank::tuning_plan(spec.tune_by_ear, full, open, SITAR_TUNING_BUDGET)
 }
 
 /// The sitar voices of a bank for the parameters `v` run as `jobs` says, `voices_n` copies
@@ -81,14 +68,8 @@ pub(super) fn sitar_voices(
 ) -> Result<(Vec<Voice>, DroneTuning), ParamError> {
     let mut spec = sitar_spec(v, jobs.sim);
     let tuning = tuning_plan(&spec);
-    let anchors: &[f64] = match tuning {
-        DroneTuning::ByEar => &SITAR_ANCHORS,
-        DroneTuning::RootOnly => &[],
-        DroneTuning::Tensions { .. } => {
-            spec.tune_by_ear = false;
-            &[]
-        }
-    };
+    let (anchors, by_ear) = planned_anchors(tuning, &SITAR_ANCHORS);
+    spec.tune_by_ear = by_ear;
     let dir = default_cache_dir();
     let (sitar, _) = Sitar::build_cached(&spec, anchors, Some(&dir))?;
     Ok((voices_of(sitar, v, jobs, voices_n, share), tuning))
@@ -115,27 +96,13 @@ fn voices_of(
     voices_n: usize,
     share: Option<f64>,
 ) -> Vec<Voice> {
-    let modes: usize = sitar
-        .network()
-        .strings()
-        .iter()
-        .map(|s| s.params().modes())
-        .sum();
-    let prior = PRIOR_SECONDS_PER_UNIT * UNITS_PER_STRING_MODE * modes as f64;
     let voice = |price| {
         Voice::new(VoiceModel::Sitar(Box::new(SitarVoice::new(
             sitar.clone(),
             price,
         ))))
     };
-    let mut price = prior;
-    if share.is_some() {
-        let mut trial = voice(prior);
-        if let Some(load) = time_note(&mut trial, v, jobs) {
-            price = load.price;
-        }
-    }
-    (0..voices_n).map(|_| voice(price)).collect()
+    priced_voices(sitar.network(), voice, v, jobs, voices_n, share)
 }
 
 #[cfg(test)]

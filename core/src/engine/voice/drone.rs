@@ -12,6 +12,7 @@
 //! thread without allocating.
 
 use super::mapping::{pitch_ratio, release_sigma, Physics};
+use super::network_voice::{network_model_info, run_bridge_mix, CapHitsSeen};
 use super::strike::PendingStrike;
 use super::string_view::{mode_spectrum, sample_grid, snapshot_fraction};
 use crate::engine::model_spec::{drone_jitter, drone_pattern, root_hz};
@@ -53,7 +54,7 @@ pub(crate) struct DroneVoice {
     /// Whether the cycle plucks: the note is held, sustained or latched.
     plucking: bool,
     /// Newton cap hits of the bridge solve already counted into the engine's total.
-    cap_hits_seen: u64,
+    cap_hits: CapHitsSeen,
     /// The cycle's parameters last applied (period s, pattern index, variation), to retime
     /// the cycle only when they change.
     cycle: (f32, Pattern, f32),
@@ -70,7 +71,7 @@ impl DroneVoice {
         Self {
             model,
             plucking: false,
-            cap_hits_seen: 0,
+            cap_hits: CapHitsSeen::default(),
             cycle: (f32::NAN, Pattern::Classic, f32::NAN),
             price,
         }
@@ -141,28 +142,13 @@ impl DroneVoice {
     /// Advances `left.len()` steps, adding `gain ·` the bridge-force mix (N; the bank's gain
     /// carries `1 /` [`DRONE_FORCE_REF`]). Audio thread.
     pub fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
-        let g = gain;
-        let ceiling = super::VOICE_CEILING;
-        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
-            self.model.step();
-            let [a, b] = self
-                .model
-                .network()
-                .bridge_force_mix(crate::models::network::BridgeInstrument::gains(&self.model));
-            let (a, b) = (g * a, g * b);
-            if !(a.abs() <= ceiling && b.abs() <= ceiling) {
-                return false;
-            }
-            *l += a as f32;
-            *r += b as f32;
-        }
-        true
+        run_bridge_mix(&mut self.model, left, right, gain)
     }
 
     /// Puts every string and the bridge at rest, the cycle at its first pluck, plucking off.
     pub fn reset(&mut self) {
         self.model.reset();
-        self.cap_hits_seen = 0;
+        self.cap_hits = CapHitsSeen::default();
         self.plucking = false;
         self.model.set_plucking(false);
     }
@@ -179,29 +165,12 @@ impl DroneVoice {
 
     /// Newton cap hits of the bridge solve since the last call.
     pub fn take_cap_hits(&mut self) -> u64 {
-        let total = self.model.network().stats().cap_hits;
-        let d = total.saturating_sub(self.cap_hits_seen);
-        self.cap_hits_seen = total;
-        d
+        self.cap_hits.take(self.model.network())
     }
 
     /// Per string the modes, the highest mode of the highest string, the simulation rate.
     pub fn model_info(&self) -> VoiceModelInfo {
-        let strings = self.model.network().strings();
-        let top = strings
-            .iter()
-            .map(|s| {
-                let p = s.params();
-                p.omega(p.modes())
-            })
-            .fold(0.0, f64::max);
-        VoiceModelInfo {
-            n_phi: strings.first().map_or(0, |s| s.params().modes()) as u32,
-            n_psi: 0,
-            top_mode_hz: (top / std::f64::consts::TAU) as f32,
-            sim_rate: (1.0 / self.model.network().h()) as f32,
-            ..VoiceModelInfo::default()
-        }
+        network_model_info(self.model.network())
     }
 
     /// The watched string's displacement (m, from its grid: one inverse transform) and its

@@ -31,6 +31,7 @@ mod hand_placement;
 mod mallet;
 mod mapping;
 pub mod modulation;
+mod network_voice;
 mod plate;
 mod sitar;
 mod strike;

@@ -15,13 +15,13 @@
 //! thread without allocating.
 
 use super::body::VoiceBody;
-use super::mapping::{pitch_ratio, release_sigma, Physics, VOICE_CEILING};
+use super::mapping::{pitch_ratio, release_sigma, Physics};
+use super::network_voice::{network_model_info, run_bridge_mix, CapHitsSeen};
 use super::strike::PendingStrike;
 use super::string_view::{mode_spectrum, sample_grid, snapshot_fraction};
 use crate::engine::model_spec::root_hz;
 use crate::engine::params::{ParamId, ParamValues};
 use crate::engine::telemetry::{VoiceModelInfo, SNAPSHOT_POINTS, SPECTRUM_MODES};
-use crate::models::network::BridgeInstrument;
 use crate::models::sitar::Sitar;
 use crate::models::source::EnergyTerms;
 
@@ -35,7 +35,7 @@ pub(crate) struct SitarVoice {
     /// The strings on the bridges.
     pub model: Sitar,
     /// Newton cap hits of the bridge solve already counted into the engine's total.
-    cap_hits_seen: u64,
+    cap_hits: CapHitsSeen,
     /// The CPU governor's price of one step (s): measured by the worker's cost trial under
     /// the governor, else the prior estimate (`engine/governor.rs`). Set on the worker.
     pub price: f64,
@@ -47,7 +47,7 @@ impl SitarVoice {
         model.reset();
         Self {
             model,
-            cap_hits_seen: 0,
+            cap_hits: CapHitsSeen::default(),
             price,
         }
     }
@@ -78,25 +78,12 @@ impl VoiceBody for SitarVoice {
     }
 
     fn run(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
-        for (l, r) in left.iter_mut().zip(right.iter_mut()) {
-            self.model.step();
-            let [a, b] = self
-                .model
-                .network()
-                .bridge_force_mix(BridgeInstrument::gains(&self.model));
-            let (a, b) = (gain * a, gain * b);
-            if !(a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING) {
-                return false;
-            }
-            *l += a as f32;
-            *r += b as f32;
-        }
-        true
+        run_bridge_mix(&mut self.model, left, right, gain)
     }
 
     fn reset(&mut self) {
         self.model.reset();
-        self.cap_hits_seen = 0;
+        self.cap_hits = CapHitsSeen::default();
     }
 
     /// The player's hand is not modelled on the sitar: pressure is ignored.
@@ -115,26 +102,12 @@ impl VoiceBody for SitarVoice {
     }
 
     fn take_cap_hits(&mut self) -> u64 {
-        let total = self.model.network().stats().cap_hits;
-        let d = total.saturating_sub(self.cap_hits_seen);
-        self.cap_hits_seen = total;
-        d
+        self.cap_hits.take(self.model.network())
     }
 
     /// The played string's modes, the highest mode of any string, the simulation rate.
     fn model_info(&self) -> VoiceModelInfo {
-        let strings = self.model.network().strings();
-        let top = strings
-            .iter()
-            .map(|s| s.params().omega(s.params().modes()))
-            .fold(0.0, f64::max);
-        VoiceModelInfo {
-            n_phi: strings.first().map_or(0, |s| s.params().modes()) as u32,
-            n_psi: 0,
-            top_mode_hz: (top / std::f64::consts::TAU) as f32,
-            sim_rate: (1.0 / self.model.network().h()) as f32,
-            ..VoiceModelInfo::default()
-        }
+        network_model_info(self.model.network())
     }
 
     /// The played string's displacement and lowest modes.
