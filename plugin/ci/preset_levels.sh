@@ -6,8 +6,8 @@
 # as strings, which the plugin's state repair converts and logs). The CLAP host loads it and
 # plays the root key at velocity 127, and keys 36 to 96 at velocities 127 and 40, each held 1 s
 # (the tanpura drone: one pluck cycle, its strings plucked one after another) and released for
-# 1 s at 48 kHz; the sitar with its taraf at the keys within an octave of its root (its played
-# string is fretted by tension and tuned by ear over that octave each way). The bounds are those of tests/engine/preset_levels.rs (the
+# 1 s at 48 kHz; the sitar with its taraf and the drone at the keys within an octave of their
+# root (their strings are retuned by tension and tuned by ear over that octave each way). The bounds are those of tests/engine/preset_levels.rs (the
 # engine alone): every sample finite and within 0 dBFS; the root key at 127 peaks between -6
 # and -1 dBFS; every key at 127 within 6 dB of the root's peak; velocity 40 quieter than 127;
 # the last 0.1 s at least 20 dB under the note's peak.
@@ -30,7 +30,7 @@ for path in sorted(src.glob("*.toml")):
     params = preset_params(path)
     held = float(params.get("drone_cycle", 4.0)) if params.get("model") == "tanpura-drone" else 1.0
     keys = [36, 48, 60, 72, 84, 96]
-    if params.get("model") == "sitar-taraf":
+    if params.get("model") in ("sitar-taraf", "tanpura-drone"):
         keys = [k for k in keys if abs(k - root) <= 12]
     print(path.stem, root, held, ",".join(map(str, keys)))
 PY

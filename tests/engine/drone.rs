@@ -86,6 +86,7 @@ fn the_held_key_is_sa() {
         let spec = TanpuraSpec {
             modes: 480,
             sim_rate: RATE,
+            alias_free: true,
             ..TanpuraSpec::at(want)
         };
         let mut model = Tanpura::build(&spec).unwrap();

@@ -118,15 +118,17 @@ fn held_seconds(preset: &Preset) -> f64 {
     }
 }
 
-/// The keys of [`KEYS`] a preset is checked at: all of them, and for the sitar with its taraf
-/// those within an octave of its root (its played string is fretted by tension and tuned by
-/// ear over that octave each way, `engine::SITAR_ANCHORS`; two octaves up it would hold 16
-/// times its tension, where no sitar plays).
+/// The keys of [`KEYS`] a preset is checked at: all of them, and for the instruments on a
+/// string network, the sitar with its taraf and the tanpura drone, those within an octave of
+/// the root (their strings are retuned by tension and tuned by ear over that octave each way,
+/// `engine::SITAR_ANCHORS`, `engine::DRONE_ANCHORS`; two octaves up they would hold 16 times
+/// their tension, where no sitar or tanpura plays, and the drone's bridge force with it: the
+/// limiter holds such keys under full scale).
 fn keys_of(preset: &Preset) -> Vec<u8> {
     let v = preset.values().unwrap();
     let root = i32::from(v.get(ParamId::RootKey) as u8);
     KEYS.into_iter()
-        .filter(|&k| !v.model().is_sitar_taraf() || (i32::from(k) - root).abs() <= 12)
+        .filter(|&k| !v.model().is_network() || (i32::from(k) - root).abs() <= 12)
         .collect()
 }
 

@@ -65,3 +65,21 @@ fn the_report_counts_the_modes_above_nyquist_and_warns() {
     assert!(at384.iter().all(|s| s.1 == 0), "{at384:?}");
     assert!(warn384.is_empty(), "{warn384:?}");
 }
+
+/// The alias-free drone (`tanpura.alias_free`) steps only the modes under 0.9 of the Nyquist
+/// frequency: at 48 kHz every string keeps its 480-mode grid but steps fewer than a third of
+/// its modes, the highest under 21.6 kHz, none above 24 kHz, and the render does not warn.
+#[test]
+fn an_alias_free_drone_steps_no_mode_above_nyquist() {
+    let (strings, warnings) = drone_report(&["tanpura.alias_free=true"]);
+    assert_eq!(strings.len(), 4);
+    for (i, &(modes, above, top)) in strings.iter().enumerate() {
+        assert_eq!(modes, 480, "string {i}");
+        assert_eq!(above, 0, "string {i}");
+        assert!(
+            top > 15e3 && top < 21.6e3,
+            "string {i}: top stepped mode {top} Hz"
+        );
+    }
+    assert!(warnings.is_empty(), "{warnings:?}");
+}

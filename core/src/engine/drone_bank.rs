@@ -1,11 +1,13 @@
 //! The drone voices of a bank: the tanpura drone as a scene's `[tanpura]` table
 //! (`engine/model_spec.rs`), tuned by ear at its Sa (the root key) and at the anchor keys
 //! [`DRONE_ANCHORS`] around it, so that every key within an octave of the root sounds its Sa
-//! in tune (`models::tanpura::key_map`), built once and copied into every voice.
+//! in tune (`models::tanpura::key_map`), built once and copied into every voice. The drone is
+//! alias-free (`TanpuraSpec::alias_free`: each string steps its modes under 0.9 of the
+//! Nyquist frequency).
 //!
 //! **Cost.** Each tuning by ear simulates every string plucked alone for two passes of a
-//! second (`models::tanpura::tune`), so a new drone takes its worker about 18 s (five
-//! tunings of four strings of 480 modes at 48 kHz). The tuning is saved in the modal cache's
+//! second (`models::tanpura::tune`), so a new drone takes its worker about 32 s of CPU (25
+//! tunings of four strings stepping 135 to 162 modes at 48 kHz), 16 s on two threads. The tuning is saved in the modal cache's
 //! directory (`models::tanpura::tuning_cache`), so the same drone builds again in
 //! milliseconds. Meanwhile a live host hears the drone's preview ([`drone_preview`]): the
 //! same strings tuned by their tensions alone, within a few cents, played until the tuned
@@ -30,9 +32,15 @@ use crate::models::tanpura::tune::{LISTEN_TO, TUNE_PASSES};
 use crate::models::tanpura::{Tanpura, TanpuraSpec};
 
 /// The keys, in semitones from the root, at which the worker tunes the drone by ear besides
-/// the root itself; the retune interpolates between them (`models::tanpura::key_map`: within
-/// 0.153 cents from -12 to +12 semitones, `tests/strings/tanpura.rs`).
-pub const DRONE_ANCHORS: [f64; 4] = [-12.0, -6.0, 6.0, 12.0];
+/// the root itself: every key within an octave; the retune interpolates between them
+/// (`models::tanpura::key_map`). Each key is tuned: the alias-free drone steps the modes
+/// under its band limit at each key, so a key a semitone higher drops a few, and the pitch
+/// moves by steps between keys (anchors six semitones apart left +7 1.7 cents off,
+/// `tests/engine/drone.rs`).
+pub const DRONE_ANCHORS: [f64; 24] = [
+    -12.0, -11.0, -10.0, -9.0, -8.0, -7.0, -6.0, -5.0, -4.0, -3.0, -2.0, -1.0, 1.0, 2.0, 3.0, 4.0,
+    5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0,
+];
 
 /// How `spec` is tuned within [`DRONE_TUNING_BUDGET`]: by ear at every anchor, at the root
 /// only, or by the tensions (module doc). Any thread.
@@ -46,7 +54,32 @@ fn tuning_plan(spec: &TanpuraSpec) -> DroneTuning {
 /// for `TUNE_PASSES` passes of `LISTEN_TO` s of the whole network, at the prior price of a step.
 fn tuning_seconds(spec: &TanpuraSpec, keys: usize) -> f64 {
     let sim_seconds = (TUNE_PASSES * spec.strings * keys) as f64 * LISTEN_TO;
-    sim_seconds * spec.sim_rate * prior_step_seconds(spec.strings * spec.modes)
+    let grid = spec.strings * spec.modes;
+    sim_seconds * spec.sim_rate * prior_step_seconds(stepped_modes(spec), grid)
+}
+
+/// The modes `spec`'s strings step at the root, all together: every mode, or for an
+/// alias-free drone those under its band limit at the strings' nominal tensions (the keys
+/// below the root step more, those above fewer). Any thread (allocates the strings' specs).
+fn stepped_modes(spec: &TanpuraSpec) -> usize {
+    let all = spec.strings * spec.modes;
+    let band = spec.band_limit();
+    if !band.is_finite() {
+        return all;
+    }
+    match spec.network(&vec![1.0; spec.strings]) {
+        Ok(config) => config
+            .strings
+            .iter()
+            .map(|s| {
+                let p = &s.config.params;
+                (1..=p.modes())
+                    .take_while(|&j| p.omega(j) / std::f64::consts::TAU < band)
+                    .count()
+            })
+            .sum(),
+        Err(_) => all,
+    }
 }
 
 /// The drone voices of a bank for the parameters `v` run as `jobs` says, `voices_n` copies of
@@ -100,19 +133,21 @@ fn voices_of(
 mod tests {
     use super::*;
 
-    /// The factory drone (4 × 480 modes at 48 kHz) is tuned at every anchor within the budget
-    /// (the estimate, 18.4 s, is the measured 14-18 s of its build); at 96 kHz only its root
-    /// fits; six strings of 2000 modes at 400 kHz (the quality parameters' top) are tuned by
-    /// their tensions, so no build waits minutes; off stays off.
+    /// The factory drone (alias-free, 4 strings on grids of 480 at 48 kHz) is tuned at every
+    /// anchor within the budget (the estimate, 54 s, is within 10 % of the 55 s of CPU its
+    /// tuning measures); at 96 kHz only its root fits; six strings of 2000 modes at 400 kHz
+    /// (the quality parameters' top) are tuned by their tensions, so no build waits minutes;
+    /// off stays off.
     #[test]
     fn the_tuning_fits_its_budget() {
         let factory = TanpuraSpec {
             modes: 480,
             sim_rate: 48_000.0,
+            alias_free: true,
             ..TanpuraSpec::at(138.59)
         };
         let estimate = tuning_seconds(&factory, 1 + DRONE_ANCHORS.len());
-        assert!((15.0..20.0).contains(&estimate), "{estimate} s");
+        assert!((49.5..60.0).contains(&estimate), "{estimate} s");
         assert_eq!(tuning_plan(&factory), DroneTuning::ByEar);
         let fast = TanpuraSpec {
             sim_rate: 96_000.0,

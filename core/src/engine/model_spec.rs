@@ -341,6 +341,7 @@ pub(crate) fn drone_spec(v: &ParamValues, sim_rate: f64) -> TanpuraSpec {
         strength_jitter,
         jivari_mm: vec![v.get(ParamId::Jivari) as f64],
         tune_by_ear: v.index_of(ParamId::DroneEar) == 1,
+        alias_free: true,
         ..TanpuraSpec::at(drone_sa(v))
     }
 }

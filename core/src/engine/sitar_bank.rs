@@ -47,7 +47,8 @@ fn string_modes(spec: &SitarSpec) -> usize {
 /// simulated for `TUNE_PASSES` passes of `LISTEN_TO` s per string and per fret.
 fn tuning_seconds(spec: &SitarSpec, frets: usize) -> f64 {
     let sim_seconds = (TUNE_PASSES * (spec.strings() + frets)) as f64 * LISTEN_TO;
-    sim_seconds * spec.sim_rate * prior_step_seconds(string_modes(spec))
+    let modes = string_modes(spec);
+    sim_seconds * spec.sim_rate * prior_step_seconds(modes, modes)
 }
 
 /// How `spec` is tuned within [`SITAR_TUNING_BUDGET`]: by ear at every anchor, at the open

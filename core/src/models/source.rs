@@ -133,11 +133,13 @@ pub struct StringDetails {
 /// simulation's Nyquist frequency.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct NetworkStringDetails {
-    /// Modes simulated.
+    /// Modes of its grid.
     pub modes: usize,
-    /// Frequency of its highest mode at its present tension (Hz).
+    /// Modes stepped: all of them, or those below its band limit (an alias-free drone's).
+    pub stepped: usize,
+    /// Frequency of its highest stepped mode at its present tension (Hz).
     pub top_mode_hz: f64,
-    /// Modes above the Nyquist frequency of the simulation: the exact scheme steps them, but
+    /// Stepped modes above the Nyquist frequency of the simulation: the exact scheme steps them, but
     /// the seat, jawari and bridge forces they answer are sampled, so their share of those
     /// couplings aliases (docs/models.md, "The drone's grid and rate").
     pub modes_above_nyquist: usize,

@@ -26,9 +26,11 @@ use crate::models::tanpura::instrument::MAX_STRENGTH;
 use crate::models::tanpura::{Pattern, Tanpura};
 
 /// Output normalisation of the drone (N of bridge force at full scale, before the gain): the
-/// factory drone at velocity 100 peaks at -6.2 dBFS over a 30 s drone with a gain of 0 dB
-/// (its preset adds 2 dB; `tests/engine/preset_levels.rs` holds the levels).
-pub const DRONE_FORCE_REF: f64 = 0.25;
+/// factory drone (alias-free) at velocity 100 peaks at -7.5 dBFS over a 30 s drone with a
+/// gain of 0 dB (its preset adds 2 dB; `tests/engine/preset_levels.rs` holds the levels).
+/// The drone that stepped every mode needed 0.25: its aliased modes weakened its bridge
+/// forces by 10 dB (docs/models.md, "The drone's grid and rate").
+pub const DRONE_FORCE_REF: f64 = 1.0;
 
 /// The drone's cycle period (s) for the values `v` and the host's tempo `tempo` (bpm): the
 /// `drone_cycle` parameter, or with `drone_sync` on and a tempo, `drone_beats` beats of it

@@ -45,16 +45,17 @@ impl CapHitsSeen {
     }
 }
 
-/// The first string's modes, the highest mode of any string (Hz) and the simulation rate of
-/// `network`, for the editor's model line.
+/// The first string's stepped modes, the highest stepped mode of any string (Hz) and the
+/// simulation rate of `network`, for the editor's model line.
 pub(super) fn network_model_info(network: &StringNetwork) -> VoiceModelInfo {
     let strings = network.strings();
     let top = strings
         .iter()
-        .map(|s| s.params().omega(s.params().modes()))
+        .filter(|s| s.stepped_modes() > 0)
+        .map(|s| s.params().omega(s.stepped_modes()))
         .fold(0.0, f64::max);
     VoiceModelInfo {
-        n_phi: strings.first().map_or(0, |s| s.params().modes()) as u32,
+        n_phi: strings.first().map_or(0, |s| s.stepped_modes()) as u32,
         n_psi: 0,
         top_mode_hz: (top / std::f64::consts::TAU) as f32,
         sim_rate: (1.0 / network.h()) as f32,

@@ -18,6 +18,11 @@ pub struct SeatedString {
     /// `Φ_k` at the string's place on the bridge, one per bridge mode (dimensionless): the
     /// bridge under the string moves by `Σ_k Φ_k y_k`.
     pub bridge_shape: Vec<f64>,
+    /// Highest mode frequency the string steps (Hz; `f64::INFINITY`: every mode). Below the
+    /// Nyquist frequency its contact and seat are solved against the stepped modes'
+    /// compliance ([`crate::models::string::StiffString::set_band_limit`]: a point jawari
+    /// at most).
+    pub band_limit: f64,
 }
 
 /// An output channel of the network.

@@ -77,8 +77,13 @@ impl StringNetwork {
                     format!("{b} finite values, one per bridge mode"),
                 ));
             }
-            let string = StiffString::new_seated(&s.config, &s.seat)
+            let mut string = StiffString::new_seated(&s.config, &s.seat)
                 .map_err(|e| e.within(&format!("network.strings[{i}]")))?;
+            if s.band_limit != f64::INFINITY {
+                string
+                    .set_band_limit(s.band_limit)
+                    .map_err(|e| e.within(&format!("network.strings[{i}]")))?;
+            }
             strings.push(string);
             shape.extend_from_slice(&s.bridge_shape);
         }

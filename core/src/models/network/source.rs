@@ -18,11 +18,12 @@ impl StringNetwork {
             .map(|s| {
                 let p = s.params();
                 let hz = |j: usize| p.omega(j) / std::f64::consts::TAU;
-                let modes = p.modes();
+                let stepped = s.stepped_modes();
                 NetworkStringDetails {
-                    modes,
-                    top_mode_hz: hz(modes),
-                    modes_above_nyquist: (1..=modes).filter(|&j| hz(j) > nyquist_hz).count(),
+                    modes: p.modes(),
+                    stepped,
+                    top_mode_hz: if stepped > 0 { hz(stepped) } else { 0.0 },
+                    modes_above_nyquist: (1..=stepped).filter(|&j| hz(j) > nyquist_hz).count(),
                 }
             })
             .collect();

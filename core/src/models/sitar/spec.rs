@@ -296,6 +296,7 @@ impl SitarSpec {
                         stiffness: SEAT_STIFFNESS,
                     },
                     bridge_shape: shape.to_vec(),
+                    band_limit: f64::INFINITY,
                 }
             })
             .collect();

@@ -53,6 +53,7 @@
 //! ([`StiffString::energy_terms`]). Without damping it is exactly conserved; with damping,
 //! `H + dissipated` is, and with a force excitation `H + dissipated - work`.
 
+pub mod band_limit;
 pub mod contact;
 pub mod contact_sav;
 pub mod exact;

@@ -1,6 +1,7 @@
 //! The stiff string model: build, initial conditions, the time step, energy and outputs.
 //! See the module doc of [`crate::models::string`] for the scheme and its energy proof.
 
+use super::band_limit::BandLimit;
 use super::contact::{ContactLaw, ContactStats, NEWTON_CAP, NEWTON_TOL};
 use super::contact_sav::ContactScheme;
 use super::exact::ModeCoefficients;
@@ -185,6 +186,9 @@ pub struct StiffString {
     lift_next: f64,
     /// The spring that seats the string on a moving bridge ([`seat`]); `None` on a fixed one.
     seat: Option<Seat>,
+    /// The modes stepped below a frequency and their compliances (`band_limit`); `None`:
+    /// every mode, as built.
+    band: Option<BandLimit>,
 }
 
 impl StiffString {
@@ -282,6 +286,7 @@ impl StiffString {
                 (Some(spec), Some(node)) => Some(Seat::new(spec, node, samples.len())),
                 _ => None,
             },
+            band: None,
         })
     }
 
@@ -333,6 +338,13 @@ impl StiffString {
             self.q[j] = q0[j] + d;
         }
         self.u_prev.copy_from_slice(q0);
+        if let Some(m) = self.band_stepped() {
+            self.q[m..].fill(0.0);
+            self.dq[m..].fill(0.0);
+            for ((u, q), d) in self.u_prev.iter_mut().zip(&self.q).zip(&self.dq) {
+                *u = q - d;
+            }
+        }
         self.map.synthesis(&mut self.u_prev);
         self.u_now.copy_from_slice(&self.q);
         self.map.synthesis(&mut self.u_now);
@@ -375,6 +387,9 @@ impl StiffString {
             *x = pluck.displacement(self.params.length, (i + 1) as f64 * dx);
         }
         self.map.analysis(&mut d);
+        if let Some(m) = self.band_stepped() {
+            d[m..].fill(0.0);
+        }
         for (q, dq) in self.q.iter_mut().zip(&d) {
             *q += dq;
         }
@@ -396,6 +411,9 @@ impl StiffString {
         force.validate(&self.params)?;
         for (j, s) in self.strike_shape.iter_mut().enumerate() {
             *s = self.params.mode_shape(j + 1, force.position);
+        }
+        if let Some(m) = self.band_stepped() {
+            self.strike_shape[m..].fill(0.0);
         }
         self.strike = Some(*force);
         self.strike_time = 0.0;
@@ -629,6 +647,7 @@ impl RenderSource for StiffString {
     }
 }
 
+mod band_solve;
 mod contact_step;
 mod hand_solve;
 mod retune;

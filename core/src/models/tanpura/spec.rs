@@ -108,6 +108,23 @@ pub struct TanpuraSpec {
     /// partial after the attack and correct its tension, twice (see [`super::tune`]).
     #[serde(default = "default_true")]
     pub tune_by_ear: bool,
+    /// Step only each string's modes below [`ALIAS_FREE_BAND`] of the Nyquist frequency, at
+    /// every key (the grid, and the jivari's place on it, stay as `modes` sets them): no
+    /// string mode aliases, and the jawari's contact is solved against the modes that sound
+    /// ([`crate::models::string::StiffString::set_band_limit`]). Needs a point jawari
+    /// (`bridge_curvature = 0`). Left out of the serialised spec when off, so the tuning
+    /// caches of drones that step every mode keep their names.
+    #[serde(default, skip_serializing_if = "is_off")]
+    pub alias_free: bool,
+}
+
+/// The band an alias-free string steps, as a fraction of the Nyquist frequency (21.6 kHz at
+/// 48 kHz: above hearing, and every mode stepped stays a sampled sinusoid).
+pub const ALIAS_FREE_BAND: f64 = 0.9;
+
+/// Serde's skip test for a flag that is off.
+fn is_off(flag: &bool) -> bool {
+    !*flag
 }
 
 fn default_strings() -> usize {
@@ -165,6 +182,17 @@ impl TanpuraSpec {
             pluck_position: default_pluck_position(),
             pluck_amplitude: default_pluck_amplitude(),
             tune_by_ear: true,
+            alias_free: false,
+        }
+    }
+
+    /// The highest mode frequency each string steps (Hz): [`ALIAS_FREE_BAND`] of the Nyquist
+    /// frequency when `alias_free`, else infinite (every mode).
+    pub fn band_limit(&self) -> f64 {
+        if self.alias_free {
+            ALIAS_FREE_BAND * 0.5 * self.sim_rate
+        } else {
+            f64::INFINITY
         }
     }
 
@@ -214,6 +242,13 @@ impl TanpuraSpec {
         }
         for (i, &c) in self.fine_cents.iter().enumerate() {
             check_closed(&format!("tanpura.fine_cents[{i}]"), c, -100.0, 100.0)?;
+        }
+        if self.alias_free && self.bridge_curvature != 0.0 {
+            return Err(ParamError::new(
+                "tanpura.alias_free",
+                true,
+                "false with a curved bridge top (bridge_curvature > 0); true needs a point jawari",
+            ));
         }
         Ok(())
     }
@@ -312,6 +347,7 @@ impl TanpuraSpec {
                         stiffness: SEAT_STIFFNESS,
                     },
                     bridge_shape: vec![1.0, 0.8 * across],
+                    band_limit: self.band_limit(),
                 }
             })
             .collect();

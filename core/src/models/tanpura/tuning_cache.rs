@@ -1,7 +1,7 @@
 //! The drone's (and the sitar's, `crate::models::sitar::tuning`) tuning by ear, kept on
 //! disk: each tuning simulates every string for
-//! `TUNE_PASSES` seconds (`super::tune`), so a drone tuned at five keys takes its worker
-//! about 18 s (four strings of 480 modes at 48 kHz). The result depends on nothing but the
+//! `TUNE_PASSES` seconds (`super::tune`), so the factory drone, tuned at 25 keys, takes its
+//! worker about 55 s of CPU (four alias-free strings at 48 kHz). The result depends on nothing but the
 //! spec and the anchor keys, and it is a few numbers per string, so it is saved beside the
 //! plates' modal bases (`crate::modal::circular::default_cache_dir`) and read back by the
 //! next build of the same drone.

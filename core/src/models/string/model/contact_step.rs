@@ -14,9 +14,15 @@ impl StiffString {
     /// Selects the contact scheme. The quadratised auxiliary variable is re-initialised from
     /// the current state (`z = √(ψ(η^{n+1}) + ψ(η^n))`), so both schemes' energies agree at the
     /// switch. O(obstacle nodes), no allocation: callable from the audio thread.
-    pub fn set_contact_scheme(&mut self, scheme: ContactScheme) {
-        self.scheme = scheme;
-        self.init_quadratised();
+    ///
+    /// Returns the scheme in use: a band-limited string ([`Self::set_band_limit`]) stays on
+    /// the Newton scheme, which its coupled point solve uses.
+    pub fn set_contact_scheme(&mut self, scheme: ContactScheme) -> ContactScheme {
+        if self.band.is_none() {
+            self.scheme = scheme;
+            self.init_quadratised();
+        }
+        self.scheme
     }
 
     /// Sets how the quadratised scheme's `z_i` of nodes off the obstacle (at both `n` and
@@ -111,6 +117,9 @@ impl StiffString {
     /// (Newton) or one division (quadratised).
     pub(crate) fn solve_contacts(&mut self, lift_next: f64) -> (f64, usize) {
         self.lift_next = lift_next;
+        if let Some(solved) = self.solve_band_limited(lift_next) {
+            return solved;
+        }
         let k = self.k;
         let mut total = 0.0;
         let mut active = 0usize;

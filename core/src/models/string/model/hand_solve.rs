@@ -30,6 +30,10 @@ impl StiffString {
             sq += *s * *s;
         }
         self.hand.shape_sq = sq;
+        if let Some(m) = self.band_stepped() {
+            self.hand.shape[m..].fill(0.0);
+            self.hand.shape_sq = self.hand.shape.iter().map(|s| s * s).sum();
+        }
         self.hand.node = node;
         self.set_hand_damping(c)
     }

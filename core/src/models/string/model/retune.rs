@@ -70,6 +70,8 @@ impl StiffString {
             self.coeffs[j] = c;
         }
         self.lossy = lossy;
+        // The stepped modes follow the band limit at the new tension.
+        self.apply_band_limit();
         self.work += self.energy_terms().total() - before;
         Ok(())
     }

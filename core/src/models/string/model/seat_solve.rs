@@ -42,6 +42,9 @@ impl StiffString {
     /// bridge position, then commits with [`Self::solve_contacts`]. Audio thread, bounded
     /// work (the Newton cap per obstacle node).
     pub(crate) fn coupling_response(&self, lift_next: f64) -> (f64, f64) {
+        if let Some(response) = self.band_limited_response(lift_next) {
+            return response;
+        }
         let (k, dx) = (self.k, self.params.dx());
         let (mut force, mut slope) = (0.0, 0.0);
         for (n, &i) in self.contact_nodes.iter().enumerate() {

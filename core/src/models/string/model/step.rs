@@ -39,13 +39,16 @@ impl StiffString {
     }
 
     /// Selects how a step computes grid values and returns the path in use: `Rows` needs the
-    /// stored rows (at most [`ROW_LIMIT`] needed nodes), otherwise the model stays on `Dst`.
+    /// stored rows (at most [`ROW_LIMIT`] needed nodes), otherwise the model stays on `Dst`;
+    /// a band-limited string ([`Self::set_band_limit`]) stays on `Rows`.
     /// Switching to `Dst` recomputes the whole grid `u^{n+1} = S q^{n+1}`,
     /// `u^n = S(q^{n+1} - Δ^{n+1})` (one round-off-level change at the needed nodes). O(N log N),
     /// no allocation.
     pub fn set_grid_synthesis(&mut self, path: GridSynthesis) -> GridSynthesis {
         let path = match (path, &self.rows) {
             (GridSynthesis::Rows, None) => GridSynthesis::Dst,
+            // A band-limited string's solve moves the stored nodes only.
+            (GridSynthesis::Dst, Some(_)) if self.band.is_some() => GridSynthesis::Rows,
             (p, _) => p,
         };
         if path == GridSynthesis::Dst && self.synthesis == GridSynthesis::Rows {
@@ -94,19 +97,21 @@ impl StiffString {
             None => 0.0,
         };
         let rows_path = self.synthesis == GridSynthesis::Rows;
+        // A band-limited string steps its lowest `m` modes; the others stay at zero.
+        let m = self.band_stepped().unwrap_or(self.q.len());
         let w = if rows_path {
             &mut self.w_buf
         } else {
             &mut self.u_next
         };
         self.arch.dispatch(FreeUpdate {
-            dn: &mut self.dq_next,
-            w,
-            ct: &self.c_tilde,
-            beta: &self.beta,
-            q: &self.q,
-            dq: &self.dq,
-            shape: &self.strike_shape,
+            dn: &mut self.dq_next[..m],
+            w: &mut w[..m],
+            ct: &self.c_tilde[..m],
+            beta: &self.beta[..m],
+            q: &self.q[..m],
+            dq: &self.dq[..m],
+            shape: &self.strike_shape[..m],
             kf: k * fe,
         });
         // 1b. The player's hand, in closed form (it moves no obstacle node, see `hand`).
@@ -171,6 +176,8 @@ impl StiffString {
                 }
             }
         }
+        let m = self.band_stepped().unwrap_or(self.q.len());
+        self.dq_next[m..].fill(0.0);
         // 5. Work of the external force h·F δ_t.q, δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
         if fe != 0.0 {
             let mut w = 0.0;
@@ -184,10 +191,10 @@ impl StiffString {
         }
         // 6. Dissipation h·2μs(δ_t.q)², rotation and flush in one pass.
         let d = self.arch.dispatch(Finish {
-            q: &mut self.q,
-            dn: &mut self.dq_next,
-            d: &self.dq,
-            wd: &self.w_diss,
+            q: &mut self.q[..m],
+            dn: &mut self.dq_next[..m],
+            d: &self.dq[..m],
+            wd: &self.w_diss[..m],
             lossy: self.lossy,
         });
         self.dissipated += d;
