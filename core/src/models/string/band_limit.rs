@@ -35,8 +35,8 @@
 //! A retune moves the modes; the stepped count follows the limit at every retune (a mode
 //! that climbs over the limit is dropped, its energy booked with the retune's work).
 //!
-//! Audio thread: `StiffString::set_band_limit` allocates nothing (buffers sized at
-//! build); the solve is O(stored rows).
+//! The first `StiffString::set_band_limit` allocates the compliance columns (control thread,
+//! at the network's build); a later one, a retune and the solve allocate nothing.
 
 /// The band limit of a [`super::StiffString`] and the compliances of its stepped modes.
 ///

@@ -2,8 +2,9 @@
 //! solved against the stepped modes' compliance (the scheme is in the module doc of
 //! [`crate::models::string::band_limit`]).
 //!
-//! Audio thread: [`StiffString::set_band_limit`] allocates nothing (buffers sized at
-//! build); the solve is O(stored rows).
+//! The first [`StiffString::set_band_limit`] allocates the compliance columns (the
+//! network's build, control thread); later calls and the solve allocate nothing, and the solve
+//! is O(stored rows).
 
 use super::{GridSynthesis, StiffString};
 use crate::error::ParamError;
@@ -31,7 +32,8 @@ impl StiffString {
     /// dropped lose their motion, the change of the discrete energy booked as work. Errors
     /// (nothing changes): `band_limit` not positive or NaN; a string with more than one obstacle
     /// node, with its grid computed by the sine transform, or on the quadratised contact
-    /// scheme. Audio thread: no allocation, O(stored rows · N).
+    /// scheme. The first call allocates two columns of the stored rows' length (control
+    /// thread); a later one allocates nothing (audio thread), O(stored rows · N).
     pub fn set_band_limit(&mut self, hz: f64) -> Result<(), ParamError> {
         if hz.is_nan() || hz <= 0.0 {
             return Err(ParamError::new("band_limit", hz, "a frequency > 0 Hz"));
