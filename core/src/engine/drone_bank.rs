@@ -71,12 +71,7 @@ fn stepped_modes(spec: &TanpuraSpec) -> usize {
         Ok(config) => config
             .strings
             .iter()
-            .map(|s| {
-                let p = &s.config.params;
-                (1..=p.modes())
-                    .take_while(|&j| p.omega(j) / std::f64::consts::TAU < band)
-                    .count()
-            })
+            .map(|s| s.config.params.modes_below(band))
             .sum(),
         Err(_) => all,
     }

@@ -47,6 +47,8 @@ pub(crate) struct BandLimit {
     pub(crate) hz: f64,
     /// Modes stepped, `m` (the lowest ones).
     pub(crate) stepped: usize,
+    /// Whether `stepped` and the compliances have been applied to the string once.
+    pub(crate) applied: bool,
     /// Per stored row `r`: `c_{ra}` (m per N/m; the obstacle node's column, 0 without one).
     pub(crate) contact_col: Vec<f64>,
     /// Per stored row `r`: `c_{rt}` (the seat's column, 0 without a seat).

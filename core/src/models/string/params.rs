@@ -190,6 +190,14 @@ impl StringParams {
             * (1.0 + self.inharmonicity() * j * j).sqrt()
     }
 
+    /// How many of the modes (from the lowest, `1..=modes()`) lie below `hz` (Hz): the modes a
+    /// band-limited string steps (`StiffString::set_band_limit`). O(that count).
+    pub fn modes_below(&self, hz: f64) -> usize {
+        (1..=self.modes())
+            .take_while(|&j| self.omega(j) / (2.0 * PI) < hz)
+            .count()
+    }
+
     /// Mode shape `φ_j(x) = √(2/L) sin(jπx/L)` in m^-1/2.
     pub fn mode_shape(&self, j: usize, x: f64) -> f64 {
         (2.0 / self.length).sqrt() * (j as f64 * PI * x / self.length).sin()

@@ -67,6 +67,7 @@ impl StiffString {
         let band = self.band.get_or_insert_with(|| BandLimit {
             hz,
             stepped: 0,
+            applied: false,
             contact_col: Vec::new(),
             seat_col: Vec::new(),
         });
@@ -91,16 +92,19 @@ impl StiffString {
     }
 
     /// Counts the modes below the limit at the current tension, drops the others' motion and
-    /// computes the compliances. No allocation; after a build, a limit or a retune.
+    /// computes the compliances; nothing when the count is the one already applied (the
+    /// compliances depend on it alone, and the modes above it are already at rest). No
+    /// allocation; after a build, a limit or a retune.
     pub(super) fn apply_band_limit(&mut self) {
         let Some(band) = &mut self.band else {
             return;
         };
-        let tau = std::f64::consts::TAU;
-        let m = (1..=self.q.len())
-            .take_while(|&j| self.params.omega(j) / tau < band.hz)
-            .count();
+        let m = self.params.modes_below(band.hz);
+        if m == band.stepped && band.applied {
+            return;
+        }
         band.stepped = m;
+        band.applied = true;
         for v in [
             &mut self.q,
             &mut self.dq,

@@ -98,7 +98,7 @@ impl StiffString {
         };
         let rows_path = self.synthesis == GridSynthesis::Rows;
         // A band-limited string steps its lowest `m` modes; the others stay at zero.
-        let m = self.band_stepped().unwrap_or(self.q.len());
+        let m = self.stepped_modes();
         let w = if rows_path {
             &mut self.w_buf
         } else {
@@ -176,7 +176,7 @@ impl StiffString {
                 }
             }
         }
-        let m = self.band_stepped().unwrap_or(self.q.len());
+        let m = self.stepped_modes();
         self.dq_next[m..].fill(0.0);
         // 5. Work of the external force h·F δ_t.q, δ_t.q = (Δ^{n+1}+Δ^n)/(2h).
         if fe != 0.0 {
