@@ -355,6 +355,20 @@ pub fn band_levels(x: &[f32], rate: f64) -> (Vec<(f64, f64)>, f64) {
     (bands, centroid)
 }
 
+/// [`band_levels`] of `x[from..to]` (seconds at `rate`), each relative to the window's total
+/// over the bands (dB): a spectrum's shape, whatever the render's gain.
+pub fn relative_band_levels(x: &[f32], rate: f64, (from, to): (f64, f64)) -> Vec<(f64, f64)> {
+    let cut = &x[(from * rate) as usize..((to * rate) as usize).min(x.len())];
+    let (bands, _) = band_levels(cut, rate);
+    let total = 10.0
+        * bands
+            .iter()
+            .map(|b| 10f64.powf(b.1 / 10.0))
+            .sum::<f64>()
+            .log10();
+    bands.into_iter().map(|(hz, l)| (hz, l - total)).collect()
+}
+
 /// A strike after a performance against the same strike on a new engine.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StrikeComparison {

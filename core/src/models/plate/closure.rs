@@ -23,8 +23,28 @@
 //!   on the crash cymbal at velocity 10), so the closure leaves it alone; the cascade of a loud
 //!   one fills the top (`X` several times `X₀` at velocity 127):
 //!
+//! - **It acts only while the plate is nonlinear.** Whether the top layer holds more than its
+//!   share depends on what the strike put there too: a hard stick resolved by a finer step, or
+//!   a heavy head on a shallow gong, fills the top of a weak, linear note (`X` grew to 9.5 on
+//!   the rising opera gong at velocity 10, and passed `X₀` on the crash at twice its rate),
+//!   and a damping there would change a note that has no cascade. The rate is therefore
+//!   gated by the plate's nonlinearity `ε̄`, the share of its energy held by the nonlinear
+//!   (cubic and quartic) part of its in-plane energy, averaged over `τ_ε`
+//!   ([`NONLINEARITY_TIME_CONSTANT`]; the model's `in_plane_split`): the cascade's transfer
+//!   rate scales with that share (the nonlinear time scale of wave turbulence), it is
+//!   independent of the strike's spectrum, and a linear note holds none of it. The gate opens
+//!   from `ε₀` ([`NONLINEARITY_THRESHOLD`]) and is full at `2ε₀`, `g = (ε̄/ε₀ - 1)` clamped to
+//!   `[0, 1]` (measured, docs/ACCURACY.md: `ε̄` 0.7-1.4 on the crash and 1.4-2.8 on the ride at
+//!   velocity 127, at most 0.025 and 0.075 at velocity 10). The gate applies to curved plates
+//!   only ([`TruncationClosure::set_gated`]): there the curvature's linear stiffness makes the
+//!   nonlinear share of a loud note large (its cubic part), and there the pile-up measure
+//!   failed; a flat plate's loud notes hold a share of 0.02-0.07, of the order of a shell's
+//!   weak notes, so one threshold cannot serve both, and on the flat plates measured the
+//!   pile-up measure alone separated the notes (the 80 N gong: `X` 7-2800 loud, under 0.1
+//!   weak):
+//!
 //! ```text
-//! γ = β ω_max (X / X₀ - 1)⁺,      mode s damped at w_s γ (w_s: 0 at r₀ ω_max, ramping to 1 at the top)
+//! γ = β ω_max (X / X₀ - 1)⁺ g(ε̄),      mode s damped at w_s γ (w_s: 0 at r₀ ω_max, ramping to 1 at the top)
 //! ```
 //!
 //! capped at [`MAX_RATE_RATIO`]` ω_max`. `X₀` ([`PILE_UP_THRESHOLD`]) and `β`
@@ -62,6 +82,22 @@ pub const MAX_RATE_RATIO: f64 = 0.25;
 /// The pile-up ratio `X₀` above which the layer is damped (see the module doc).
 pub const PILE_UP_THRESHOLD: f64 = 0.1;
 
+/// The nonlinearity `ε₀` above which the closure's gate opens (see the module doc): the share
+/// of the plate's energy held by the nonlinear part of its in-plane energy. Set between the
+/// weak and the loud notes measured on the cymbals (0.075 at most at velocity 10, 0.7 at least
+/// at velocity 127, docs/ACCURACY.md), 2.7 and 1.8 times from either.
+pub const NONLINEARITY_THRESHOLD: f64 = 0.2;
+
+/// The averaging time `τ_ε` of the gate's nonlinearity (s): the in-plane energy of a mode
+/// swings at twice its frequency, so the average spans the periods of the lowest modes
+/// (20-30 ms on the cymbals), short against a note's decay.
+pub const NONLINEARITY_TIME_CONSTANT: f64 = 0.05;
+
+/// The gate samples the nonlinearity once in this many steps (its average spans
+/// [`NONLINEARITY_TIME_CONSTANT`], hundreds of steps; the in-plane split costs `O(N_Φ N_Ψ)` on a
+/// curved plate, as much as a tenth of the step).
+pub const GATE_STRIDE: u32 = 8;
+
 /// The calibrated closure strength `β` (see the module doc): a pile-up twice the threshold
 /// damps the top mode at a tenth of its angular frequency.
 pub const DEFAULT_STRENGTH: f64 = 0.1;
@@ -82,6 +118,13 @@ pub struct TruncationClosure {
     /// `τ` (s), and the per-step averaging weight `1 - e^{-h/τ}`.
     time_constant: f64,
     smoothing: f64,
+    /// The averaging weight of `ε̄` per sample, `1 - e^{-S h/τ_ε}` (one sample every
+    /// [`GATE_STRIDE`] `= S` steps; [`NONLINEARITY_TIME_CONSTANT`]).
+    gate_smoothing: f64,
+    /// Steps until the next sample of the nonlinearity (0: this step's is taken).
+    gate_countdown: u32,
+    /// Whether the gate applies (a curved plate; a flat plate's closure is ungated).
+    gated: bool,
     /// `w_s ∈ [0, 1]`, zero below the layer (length `N_Φ`).
     weights: Vec<f64>,
     /// Per mode: 1 in the layer, -1 in the band below it, 0 elsewhere.
@@ -97,6 +140,9 @@ pub struct TruncationClosure {
     /// `ē_L`, `ē_B`: averaged mean energies per mode of the layer and the band below (J).
     layer_energy: f64,
     below_energy: f64,
+    /// `ε̄`: the averaged share of the plate's energy held by the nonlinear part of its
+    /// in-plane energy (dimensionless; the gate, see the module doc).
+    nonlinearity: f64,
     /// `γ` (1/s) of the coming step; the mode `s` gets `w_s γ`.
     rate: f64,
 }
@@ -110,6 +156,9 @@ impl TruncationClosure {
             layer: DEFAULT_LAYER,
             time_constant: DEFAULT_TIME_CONSTANT,
             smoothing: 0.0,
+            gate_smoothing: 0.0,
+            gate_countdown: 0,
+            gated: false,
             weights: vec![0.0; n_phi],
             band: vec![0; n_phi],
             unwarp: vec![1.0; n_phi],
@@ -118,6 +167,7 @@ impl TruncationClosure {
             top: 0.0,
             layer_energy: 0.0,
             below_energy: 0.0,
+            nonlinearity: 0.0,
             rate: 0.0,
         }
     }
@@ -140,6 +190,33 @@ impl TruncationClosure {
         } else {
             0.0
         }
+    }
+
+    /// `ε̄`, the averaged share of the plate's energy held by the nonlinear part of its in-plane
+    /// energy (0 before any energy; the gate opens from [`NONLINEARITY_THRESHOLD`]).
+    pub fn nonlinearity(&self) -> f64 {
+        self.nonlinearity
+    }
+
+    /// The gate `g ∈ [0, 1]` of the coming step: `(ε̄/ε₀ - 1)` clamped on a curved plate, 1 on
+    /// a flat one (module doc).
+    pub fn gate(&self) -> f64 {
+        if self.gated {
+            (self.nonlinearity / NONLINEARITY_THRESHOLD - 1.0).clamp(0.0, 1.0)
+        } else {
+            1.0
+        }
+    }
+
+    /// Applies the gate (`true`: a curved plate) or not (a flat plate); the averages are kept.
+    /// Any thread that owns the closure; no allocation.
+    pub fn set_gated(&mut self, gated: bool) {
+        self.gated = gated;
+    }
+
+    /// Whether the gate applies (see [`Self::set_gated`]).
+    pub fn is_gated(&self) -> bool {
+        self.gated
     }
 
     /// Sets `β` (0 to [`MAX_STRENGTH`] times [`DEFAULT_STRENGTH`]), `r₀` (0 to 1, exclusive)
@@ -189,6 +266,7 @@ impl TruncationClosure {
         }
         self.top = top;
         self.smoothing = 1.0 - (-h / self.time_constant).exp();
+        self.gate_smoothing = 1.0 - (-(GATE_STRIDE as f64) * h / NONLINEARITY_TIME_CONSTANT).exp();
         self.rate = self.rate.min(MAX_RATE_RATIO * top);
     }
 
@@ -197,6 +275,8 @@ impl TruncationClosure {
     pub fn reset(&mut self) {
         self.layer_energy = 0.0;
         self.below_energy = 0.0;
+        self.nonlinearity = 0.0;
+        self.gate_countdown = 0;
         self.rate = 0.0;
     }
 
@@ -221,39 +301,66 @@ impl TruncationClosure {
         }
     }
 
+    /// Whether the coming [`Self::observe`] samples the nonlinearity (one step in
+    /// [`GATE_STRIDE`]): only then does the caller compute the in-plane split it takes.
+    pub fn samples_gate(&self) -> bool {
+        self.gated && self.gate_countdown == 0
+    }
+
     /// After a step: returns the energy the closure removed in it (J, `≥ 0`), then updates the
     /// averages and the rate of the next step. `q_next`, `q`, `q_prev` are `q(n+1)`, `q(n)`,
     /// `q(n-1)`; `omega_sq` the linear part's `ω̃_s²` (the per-mode discrete energy is
-    /// `(ρh/2)[(δ_{t+}q_s)² + ω̃_s² q_s(n+1) q_s(n)]`). Audio thread: no allocation, `O(N_Φ)`.
+    /// `(ρh/2)[(δ_{t+}q_s)² + ω̃_s² q_s(n+1) q_s(n)]`); `in_plane` the step's in-plane energy,
+    /// its nonlinear part and the whole `(U_nl, U)` (J, the model's `in_plane_split`), given
+    /// when [`Self::samples_gate`] asked for it (ignored otherwise).
+    /// Audio thread: no allocation, `O(N_Φ)`.
     pub fn observe(
         &mut self,
         (q_next, q, q_prev): (&[f64], &[f64], &[f64]),
         omega_sq: &[f64],
+        in_plane: Option<(f64, f64)>,
         rho_h: f64,
         h: f64,
     ) -> f64 {
+        let sample = self.samples_gate().then_some(in_plane).flatten();
+        self.gate_countdown = match self.gate_countdown {
+            0 => GATE_STRIDE - 1,
+            n => n - 1,
+        };
         let (inv_h, inv_2h) = (1.0 / h, 0.5 / h);
-        let (mut absorbed, mut e_layer, mut e_below) = (0.0, 0.0, 0.0);
+        let (mut absorbed, mut e_layer, mut e_below, mut e_all) = (0.0, 0.0, 0.0, 0.0);
         for s in 0..self.weights.len() {
             let band = self.band[s];
-            if band == 0 {
+            if band == 0 && sample.is_none() {
                 continue;
             }
             let v = (q_next[s] - q[s]) * inv_h;
             let e = 0.5 * rho_h * (v * v + omega_sq[s] * q_next[s] * q[s]) * self.unwarp[s];
-            if band > 0 {
-                let vc = (q_next[s] - q_prev[s]) * inv_2h;
-                absorbed += h * rho_h * self.weights[s] * self.rate * vc * vc;
-                e_layer += e;
-            } else {
-                e_below += e;
+            e_all += e;
+            match band {
+                0 => {}
+                b if b > 0 => {
+                    let vc = (q_next[s] - q_prev[s]) * inv_2h;
+                    absorbed += h * rho_h * self.weights[s] * self.rate * vc * vc;
+                    e_layer += e;
+                }
+                _ => e_below += e,
             }
         }
         let k = self.smoothing;
         self.layer_energy += k * (e_layer / self.n_layer.max(1) as f64 - self.layer_energy);
         self.below_energy += k * (e_below / self.n_below.max(1) as f64 - self.below_energy);
+        if let Some((u_nonlinear, u_total)) = sample {
+            let energy = e_all + u_total;
+            let share = if energy > 0.0 {
+                u_nonlinear / energy
+            } else {
+                0.0
+            };
+            self.nonlinearity += self.gate_smoothing * (share - self.nonlinearity);
+        }
         let excess = (self.pile_up() / PILE_UP_THRESHOLD - 1.0).max(0.0);
-        let rate = self.strength * self.top * excess;
+        let rate = self.strength * self.top * excess * self.gate();
         self.rate = if rate.is_finite() {
             rate.min(MAX_RATE_RATIO * self.top)
         } else {
@@ -284,10 +391,11 @@ mod tests {
         assert_eq!((c.n_layer, c.n_below), (2, 2));
     }
 
-    /// The rate is `β ω_max (X/X₀ - 1)⁺`: none while the layer holds little energy per mode
-    /// against the band below (a linear note's falling spectrum), rising with the pile-up.
+    /// The rate is `β ω_max (X/X₀ - 1)⁺ g`: none while the layer holds little energy per mode
+    /// against the band below (a linear note's falling spectrum), rising with the pile-up; and
+    /// none, whatever the pile-up, while the plate holds no nonlinear in-plane energy.
     #[test]
-    fn the_rate_follows_the_pile_up() {
+    fn the_rate_follows_the_pile_up_while_the_plate_is_nonlinear() {
         let h = 1.0 / 48_000.0;
         let mut c = TruncationClosure::new(2);
         c.configure(0.01, 0.5, 1e-9);
@@ -297,12 +405,34 @@ mod tests {
         // Still modes (e = ½ω²q²): X = ½·2000²·q₁² / ½·900²·q₀².
         let x = |q: [f64; 2]| (2000.0 * q[1] / (900.0 * q[0])).powi(2);
         let piled = [1.0, 0.2];
-        c.observe((&piled, &piled, &piled), &w2, 1.0, h);
+        // A curved plate that is linear (no nonlinear in-plane energy): piled up, yet no rate.
+        c.set_gated(true);
+        c.observe((&piled, &piled, &piled), &w2, Some((0.0, 0.0)), 1.0, h);
         assert!(
             (c.pile_up() / x(piled) - 1.0).abs() < 1e-12,
             "X = {}",
             c.pile_up()
         );
+        assert!(x(piled) > PILE_UP_THRESHOLD);
+        assert_eq!((c.nonlinearity(), c.gate(), c.rate()), (0.0, 0.0, 0.0));
+        // A strongly nonlinear one: after one sample (weight 1 - e^{-S h/τ_ε}) the average is
+        // `k · share` with the share `U_nl / (Σ e_s + U)`, past 2ε₀: the gate is open.
+        // The next sample is GATE_STRIDE steps on; the steps between take no in-plane split.
+        for _ in 1..GATE_STRIDE {
+            assert!(!c.samples_gate());
+            c.observe((&piled, &piled, &piled), &w2, None, 1.0, h);
+        }
+        assert!(c.samples_gate());
+        let energy = 0.5 * (w2[0] * 1.0 + w2[1] * 0.04);
+        let u_nl = 1e4 * energy;
+        c.observe((&piled, &piled, &piled), &w2, Some((u_nl, 0.0)), 1.0, h);
+        let k = 1.0 - (-(GATE_STRIDE as f64) * h / NONLINEARITY_TIME_CONSTANT).exp();
+        assert!(
+            (c.nonlinearity() / (k * u_nl / energy) - 1.0).abs() < 1e-12,
+            "ε̄ = {}",
+            c.nonlinearity()
+        );
+        assert_eq!(c.gate(), 1.0);
         let want = 0.01 * 2000.0 * (x(piled) / PILE_UP_THRESHOLD - 1.0);
         assert!(
             (c.rate() / want - 1.0).abs() < 1e-12,
@@ -311,13 +441,20 @@ mod tests {
         );
         // A falling spectrum (X < X₀): no rate.
         let falling = [1.0, 0.1];
-        c.observe((&falling, &falling, &falling), &w2, 1.0, h);
+        c.observe(
+            (&falling, &falling, &falling),
+            &w2,
+            Some((u_nl, 0.0)),
+            1.0,
+            h,
+        );
         assert!(x(falling) < PILE_UP_THRESHOLD);
         assert_eq!(c.rate(), 0.0);
         // Capped at a quarter of the top angular frequency.
         c.configure(MAX_STRENGTH * DEFAULT_STRENGTH, 0.5, 1e-9);
         c.retune(&omega, &w2, h);
-        c.observe((&piled, &piled, &piled), &w2, 1.0, h);
+        c.observe((&piled, &piled, &piled), &w2, Some((u_nl, 0.0)), 1.0, h);
+        c.observe((&piled, &piled, &piled), &w2, Some((u_nl, 0.0)), 1.0, h);
         assert_eq!(c.rate(), MAX_RATE_RATIO * 2000.0);
     }
 }

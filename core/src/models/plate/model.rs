@@ -414,9 +414,11 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         let closure = if self.closure.is_on() {
             let n = self.q.len();
+            let in_plane = self.closure.samples_gate().then(|| self.in_plane_split());
             let absorbed = self.closure.observe(
                 (&self.q_next[..n], &self.q[..n], &self.q_prev[..n]),
                 &self.omega_sq,
+                in_plane,
                 self.rho_h,
                 self.h,
             );
@@ -577,6 +579,7 @@ fn check_weights(field: &str, w: &[f64], n: usize) -> Result<(), ParamError> {
 mod energy_terms;
 mod free_response;
 mod hand_solve;
+mod in_plane_split;
 mod mallet_step;
 mod rest_shape;
 mod rest_state;

@@ -111,6 +111,9 @@ pub(crate) struct SavStep {
     ledger: RelaxationLedger,
     /// `Ĥ(q(n), q(n))` then `4 u_l Ĥ_l / √(2U)` (length `N_Ψ`).
     w: Vec<f64>,
+    /// The last step's in-plane stress coordinates `e_l = Ĥ(r,r)_l - c_l` at `q(n)` (flat:
+    /// `Ĥ(q,q)_l`; length `N_Ψ`): what [`super::closure`]'s nonlinearity gate reads.
+    stress: Vec<f64>,
     /// `g(q(n))` (√J per unit `q`, length `N_Φ`).
     g: Vec<f64>,
     /// `A⁻¹ r` (first `N_Φ` entries; length `3 N_Φ + 8`); first the fused kernel's scratch.
@@ -177,6 +180,7 @@ impl SavStep {
             relaxed: 0.0,
             ledger: RelaxationLedger::default(),
             w: vec![0.0; n_psi],
+            stress: vec![0.0; n_psi],
             g: vec![0.0; n_phi],
             // The block kernel's scratch: permuted q, H^l q and gradient, + 8 padding.
             y: vec![0.0; 3 * n_phi + 8],
@@ -324,11 +328,18 @@ impl SavStep {
         ok_a && ok_b
     }
 
+    /// The last step's in-plane stress coordinates `e_l` at `q(n)` (see the field; zeros
+    /// before the first step). Audio thread.
+    pub(crate) fn stress(&self) -> &[f64] {
+        &self.stress
+    }
+
     /// Sets `ψ(n-½) = psi` (√J) for a new state, forgets the previous step's gradient (the
     /// next step is not relaxed) and empties the relaxation's account. No allocation.
     pub(crate) fn restart(&mut self, psi: f64) {
         self.psi = psi;
         self.psi_q_prev = f64::NAN;
+        self.stress.fill(0.0);
         self.relaxed = 0.0;
         self.ledger = RelaxationLedger::default();
     }
@@ -416,6 +427,7 @@ impl SavStep {
             for (w, &c) in self.w.iter_mut().zip(c) {
                 *w -= c;
             }
+            self.stress.copy_from_slice(&self.w);
             shift = self
                 .w
                 .iter()
@@ -440,6 +452,7 @@ impl SavStep {
             }
             psi_q
         } else if self.fused_gradient(coupling, q, k.u_coef, None) {
+            self.stress.copy_from_slice(&self.w);
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             let inv = if psi_q > 0.0 { 1.0 / psi_q } else { 0.0 };
             for g in self.g.iter_mut() {
@@ -448,6 +461,7 @@ impl SavStep {
             psi_q
         } else {
             coupling.contract_eta(q, q, &mut self.w);
+            self.stress.copy_from_slice(&self.w);
             let psi_q = Self::psi_from(k.u_coef, &self.w);
             if psi_q > 0.0 {
                 let inv = 4.0 / psi_q;

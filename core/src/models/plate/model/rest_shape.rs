@@ -35,8 +35,8 @@
 //! modes, measured in the tests), explicitly by Störmer-Verlet (whose stability limit the
 //! shell's highest linear frequency now sets) and by SAV.
 //!
-//! Threads: [`PlateModel::set_rest_shape`] runs on the thread that owns the model (one tensor
-//! pass, no allocation); the per-step helpers run on the audio thread.
+//! Threads: [`PlateModel::set_rest_shape`] runs on the thread that owns the model (three
+//! tensor passes, no allocation); the per-step helpers run on the audio thread.
 
 use super::PlateModel;
 use crate::error::{check_finite, ParamError};
@@ -48,8 +48,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
     /// The state `q` (the motion about the rest shape) is kept and the stored energy
     /// recomputed; the accumulators are not rewritten, so, as with a retune, the power
     /// balance holds from the change on. Errors: length or a non-finite entry (field
-    /// `rest_shape`); on error the model is unchanged. The thread that owns the model: two
-    /// passes over the coupling tensor, no allocation.
+    /// `rest_shape`); on error the model is unchanged. The thread that owns the model: three
+    /// passes over the coupling tensor (`c`, `G(a)` and the state's `b`), no allocation.
     pub fn set_rest_shape(&mut self, a: &[f64]) -> Result<(), ParamError> {
         let nf = self.q.len();
         if a.len() != nf {
@@ -74,10 +74,14 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 &mut rest.c,
                 &mut self.kscratch,
             );
+            self.coupling
+                .coupling_matrix_with_scratch(&rest.a, &mut rest.g_a, &mut self.kscratch);
         } else {
             rest.c.fill(0.0);
+            rest.g_a.fill(0.0);
         }
         rest.shift.fill(0.0);
+        self.closure.set_gated(self.rest.on);
         self.refresh_b_half();
         if let Some(sav) = self.sav.as_mut() {
             sav.restart(super::SavStep::psi_from(&self.u_coef, &self.b_half));

@@ -14,6 +14,11 @@ pub(crate) struct RestShape {
     pub shift: Vec<f64>,
     /// `r = q(n) + a`, length `N_Φ`.
     pub r: Vec<f64>,
+    /// `G(a)_{s,l} = Σ_k Ĥ^l_{s,k} a_k`, row-major `N_Φ × N_Ψ`: the curvature's linear part of
+    /// the in-plane stress, `2 Ĥ(a, q)_l = 2 Σ_s G(a)_{s,l} q_s` (set with `a`).
+    pub g_a: Vec<f64>,
+    /// Scratch, length `N_Ψ`: the linear part of the stress of a step.
+    pub linear_stress: Vec<f64>,
 }
 
 impl RestShape {
@@ -25,6 +30,8 @@ impl RestShape {
             c: vec![0.0; n_psi],
             shift: vec![0.0; n_psi],
             r: vec![0.0; n_phi],
+            g_a: vec![0.0; n_phi * n_psi],
+            linear_stress: vec![0.0; n_psi],
         }
     }
 
