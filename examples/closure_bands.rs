@@ -6,9 +6,11 @@
 //! the window's total over 0-0.3 s and 0.3-1.5 s: the reference's, and the preset's and the
 //! plain truncation's differences from it (dB), then the worst from 99 Hz to 12.5 kHz.
 //! docs/ACCURACY.md ("The closure's gate; the crash at twice its rate") shows the crash's.
+//! `CLOSURE`, when given, sets the preset column's closure strength (to try the closure on a
+//! preset that does not set it).
 //!
 //! ```text
-//! cargo run --release --example closure_bands [-- STEM [BAND [RATE]]]   (crash 14000 62400)
+//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE]]]]   (crash 14000 62400)
 //! ```
 
 use noether::engine::ParamId;
@@ -23,8 +25,10 @@ const WINDOWS: [(f64, f64); 2] = [(0.0, 0.3), (0.3, 1.5)];
 fn render(stem: &str, sets: &[(ParamId, f32)], velocity: f32) -> Vec<f32> {
     let mut all = vec![(ParamId::Polyphony, 1.0)];
     all.extend_from_slice(sets);
-    let mut e = engine(preset_params(stem, &all));
-    strike(&mut e, 60, velocity, 1.5, 1.5)
+    let params = preset_params(stem, &all);
+    let key = params.get(ParamId::RootKey) as u8;
+    let mut e = engine(params);
+    strike(&mut e, key, velocity, 1.5, 1.5)
 }
 
 fn main() {
@@ -36,6 +40,11 @@ fn main() {
     let rate: f32 = args
         .get(2)
         .map_or(62_400.0, |s| s.parse().expect("RATE in Hz"));
+    let preset_sets: Vec<(ParamId, f32)> = args
+        .get(3)
+        .map(|s| (ParamId::Closure, s.parse().expect("CLOSURE, 0 to 4")))
+        .into_iter()
+        .collect();
     let resolved = [
         (ParamId::Closure, 0.0),
         (ParamId::BandLimit, band),
@@ -45,7 +54,7 @@ fn main() {
     ];
     for velocity in [127u8, 64] {
         let v = f32::from(velocity) / 127.0;
-        let preset = render(stem, &[], v);
+        let preset = render(stem, &preset_sets, v);
         let plain = render(stem, &[(ParamId::Closure, 0.0)], v);
         let reference = render(stem, &resolved, v);
         for window in WINDOWS {
