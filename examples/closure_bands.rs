@@ -10,7 +10,8 @@
 //! preset that does not set it).
 //!
 //! ```text
-//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE]]]]   (crash 14000 62400)
+//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE]]]]
+//! (defaults: crash 14000 62400, the preset's own closure)
 //! ```
 
 use noether::engine::ParamId;

@@ -201,8 +201,9 @@ fn stable_at_large_steps_and_strong_nonlinearity() {
 /// physical losses, `𝔥(n) ≤ 𝔥(0) - D(n)` (to 1e-6, the energy identity's round-off at this
 /// stiffness, above; measured 4e-11). When the allowance also held half of each step's losses
 /// (the former default `η = 0.5`), the relaxation returned them to `ψ` (here 0.29 of the
-/// start more than it took; the test fails) and a damped note rang on: the crash cymbal's release at
-/// 31.2 kHz decayed 21 dB in 0.9 s where its 2 s release asks for 27 (docs/models.md).
+/// start more than it took; the test fails) and a damped note rang on: the crash cymbal's
+/// release at 31.2 kHz decayed 21 dB in 0.9 s where its 2 s release asks for 27
+/// (docs/models.md).
 #[test]
 fn with_losses_the_relaxation_gives_back_no_more_than_it_took() {
     let (n_phi, n_psi, seed, fs) = (8, 5, 4, 600.0);

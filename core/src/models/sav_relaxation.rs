@@ -33,11 +33,12 @@
 //! `𝔥(n) ≤ 𝔥(0) + W(n) - (1 - η) D(n)` (`W` the external work, `D` the physical
 //! dissipation): the bound on which the scheme's stability rests is kept, and without losses
 //! and forcing `𝔥` never exceeds its initial value. The models' default is `η = 0`
-//! ([`DEFAULT_BUDGET_SHARE`]): the bound is then the physical one, `𝔥(n) ≤ 𝔥(0) + W(n) - D(n)`,
-//! and a damped note decays at least as fast as its damping says. The bank is what makes the correction
-//! symmetric: with an allowance of the losses alone, a lossless run could only ever lower `ψ`
-//! (the scheme's oscillating consistency error then biases `ψ` low: measured as a 0.3 %
-//! frequency error of a curved plate's linear mode, `tests/plates/plate_shell.rs`). With `d = ψ* - ψ̃`,
+//! ([`DEFAULT_BUDGET_SHARE`]): the bound is then the physical one,
+//! `𝔥(n) ≤ 𝔥(0) + W(n) - D(n)`, and a damped note decays at least as fast as its damping says.
+//! The bank is what makes the correction symmetric: with an allowance of the losses alone, a
+//! lossless run could only ever lower `ψ` (the scheme's oscillating consistency error then
+//! biases `ψ` low: measured as a 0.3 % frequency error of a curved plate's linear mode,
+//! `tests/plates/plate_shell.rs`). With `d = ψ* - ψ̃`,
 //! `f(ξ) = (ψ̃ + ξd)² - ψ̃² - 2β = ξ²d² + 2ξψ̃d - 2β` is convex with `f(0) = -2β ≤ 0`, so the
 //! feasible `ξ ≥ 0` form the interval `[0, ξ_max]` with the positive root
 //! `ξ_max = (|d| √(ψ̃² + 2β) - ψ̃ d) / d²` (no root when `d = 0`: nothing to do).

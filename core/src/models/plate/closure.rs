@@ -26,25 +26,26 @@
 //! - **It acts only while the plate is nonlinear.** Whether the top layer holds more than its
 //!   share depends on what the strike put there too: a hard stick resolved by a finer step, or
 //!   a heavy head on a shallow gong, fills the top of a weak, linear note (`X` grew to 9.5 on
-//!   the rising opera gong at velocity 10, and passed `X₀` on the crash at twice its rate),
-//!   and a damping there would change a note that has no cascade. The rate is therefore
+//!   the rising opera gong on key 60 at velocity 10, and passed `X₀` on the crash at twice its
+//!   rate), and a damping there would change a note that has no cascade. The rate is therefore
 //!   gated by the plate's nonlinearity `ε̄`, the share of its energy held by the nonlinear
 //!   (cubic and quartic) part of its in-plane energy, averaged over `τ_ε`
 //!   ([`NONLINEARITY_TIME_CONSTANT`]; the model's `in_plane_split`): the cascade's transfer
 //!   rate scales with that share (the nonlinear time scale of wave turbulence), it is
 //!   independent of the strike's spectrum, and a linear note holds none of it. The gate opens
 //!   from `ε₀` ([`NONLINEARITY_THRESHOLD`]) and is full at `2ε₀`, `g = (ε̄/ε₀ - 1)` clamped to
-//!   `[0, 1]` (measured, docs/ACCURACY.md: `ε̄` 0.7-1.4 on the crash and 1.4-2.8 on the ride at
-//!   velocity 127, at most 0.025 and 0.075 at velocity 10). The gate applies to curved plates
-//!   only ([`TruncationClosure::set_gated`]): there the curvature's linear stiffness makes the
-//!   nonlinear share of a loud note large (its cubic part), and there the pile-up measure
-//!   failed; a flat plate's loud notes hold a share of 0.02-0.07, of the order of a shell's
-//!   weak notes, so one threshold cannot serve both, and on the flat plates measured the
-//!   pile-up measure alone separated the notes (the 80 N gong: `X` 7-2800 loud, under 0.1
-//!   weak):
+//!   `[0, 1]` (measured on key 60, docs/ACCURACY.md: `ε̄` 0.7-1.4 on the crash and 1.4-2.8 on
+//!   the ride at velocity 127, at most 0.025 and 0.075 at velocity 10). The gate applies to
+//!   curved plates only ([`TruncationClosure::set_gated`]): there the curvature's linear
+//!   stiffness makes the nonlinear share of a loud note large (its cubic part), and there the
+//!   pile-up measure failed; a flat plate's loud notes hold a share of 0.02-0.07, of the order
+//!   of a shell's weak notes, so one threshold cannot serve both, and on the flat plates
+//!   measured the pile-up measure alone separated the notes (the 80 N gong: `X` 7-2800 loud,
+//!   under 0.1 weak):
 //!
 //! ```text
-//! γ = β ω_max (X / X₀ - 1)⁺ g(ε̄),      mode s damped at w_s γ (w_s: 0 at r₀ ω_max, ramping to 1 at the top)
+//! γ = β ω_max (X / X₀ - 1)⁺ g(ε̄),   mode s damped at w_s γ
+//! (w_s: 0 at r₀ ω_max, ramping to 1 at the top)
 //! ```
 //!
 //! capped at [`MAX_RATE_RATIO`]` ω_max`. `X₀` ([`PILE_UP_THRESHOLD`]) and `β`

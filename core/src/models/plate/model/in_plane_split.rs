@@ -7,11 +7,13 @@
 //! weakly struck shell has at any amplitude, and the cubic and quartic parts that make it
 //! nonlinear. Their size, `U_nl = |U - Σ_l u_l λ_l²|` with `λ = 2 Ĥ(a, q)` the linear part of
 //! `e`, is the nonlinearity the closure gates on: against the plate's energy it grows as the
-//! amplitude squared (flat) or as the amplitude (curved), whatever the strike's spectrum. The schemes hold `e` at slightly different times, which the
-//! gate's averaging does not see: the conservative and Störmer-Verlet schemes
-//! `b(n+1) = Ĥ(r(n+1), r(n)) - c`, whose linear part is `Ĥ(a, q(n+1) + q(n))`; SAV
-//! `Ĥ(r(n), r(n)) - c`, whose linear part is `2 Ĥ(a, q(n))`. Audio thread, no allocation,
-//! `O(N_Φ N_Ψ)` for a curved plate (one product with the stored `G(a)`), `O(N_Ψ)` flat.
+//! amplitude squared (flat) or as the amplitude (curved), whatever the strike's spectrum.
+//!
+//! The schemes hold `e` at slightly different times, which the gate's averaging does not see:
+//! the conservative and Störmer-Verlet schemes `b(n+1) = Ĥ(r(n+1), r(n)) - c`, whose linear
+//! part is `Ĥ(a, q(n+1) + q(n))`; SAV `Ĥ(r(n), r(n)) - c`, whose linear part is
+//! `2 Ĥ(a, q(n))`. Audio thread, no allocation, `O(N_Φ N_Ψ)` for a curved plate (one product
+//! with the stored `G(a)`), `O(N_Ψ)` flat.
 
 use super::PlateModel;
 use crate::models::plate::coupling::ModalCoupling;
