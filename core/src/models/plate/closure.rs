@@ -215,11 +215,6 @@ impl TruncationClosure {
         self.gated = gated;
     }
 
-    /// Whether the gate applies (see [`Self::set_gated`]).
-    pub fn is_gated(&self) -> bool {
-        self.gated
-    }
-
     /// Sets `β` (0 to [`MAX_STRENGTH`] times [`DEFAULT_STRENGTH`]), `r₀` (0 to 1, exclusive)
     /// and `τ` (s, > 0); the caller validated them. The averages and the rate are forgotten;
     /// the layer follows at the next [`Self::retune`]. Any thread that owns the closure; no
