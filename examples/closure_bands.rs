@@ -6,11 +6,15 @@
 //! the window's total over 0-0.3 s and 0.3-1.5 s: the reference's, and the preset's and the
 //! plain truncation's differences from it (dB), then the worst from 99 Hz to 12.5 kHz.
 //! docs/ACCURACY.md ("The closure's gate; the crash at twice its rate") shows the crash's.
-//! `CLOSURE`, when given, sets the preset column's closure strength (to try the closure on a
-//! preset that does not set it).
+//! `CLOSURE`, when given and not `-`, sets the preset column's closure strength (to try the
+//! closure on a preset that does not set it). Each `KEY=VALUE` after it (a preset file's
+//! parameter keys, e.g. `in_plane_modes=60`) is set on the reference only: the in-plane modes
+//! it needs to converge, for one. A note takes the tier of its band, whose in-plane modes are
+//! `in_plane_modes` scaled by its share of `modes`. `preset:KEY=VALUE` sets it on the preset
+//! and the plain columns instead (another choice of the preset, against the same reference).
 //!
 //! ```text
-//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE]]]]
+//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE [KEY=VALUE ...]]]]]
 //! (defaults: crash 14000 62400, the preset's own closure)
 //! ```
 
@@ -43,20 +47,39 @@ fn main() {
         .map_or(62_400.0, |s| s.parse().expect("RATE in Hz"));
     let preset_sets: Vec<(ParamId, f32)> = args
         .get(3)
+        .filter(|s| *s != "-")
         .map(|s| (ParamId::Closure, s.parse().expect("CLOSURE, 0 to 4")))
         .into_iter()
         .collect();
-    let resolved = [
+    let mut resolved = vec![
         (ParamId::Closure, 0.0),
         (ParamId::BandLimit, band),
         (ParamId::Modes, 1400.0),
         (ParamId::Scheme, 1.0), // conservative-exact
         (ParamId::SimRate, rate),
     ];
+    let mut preset_sets = preset_sets;
+    let mut plain_sets = vec![(ParamId::Closure, 0.0)];
+    for set in args.iter().skip(4) {
+        let (target, set) = match set.strip_prefix("preset:") {
+            Some(rest) => (None, rest),
+            None => (Some(&mut resolved), set.as_str()),
+        };
+        let (key, value) = set.split_once('=').expect("KEY=VALUE");
+        let id = ParamId::from_key(key).unwrap_or_else(|| panic!("no parameter named {key}"));
+        let value: f32 = value.parse().expect("a number");
+        match target {
+            Some(r) => r.push((id, value)),
+            None => {
+                preset_sets.push((id, value));
+                plain_sets.push((id, value));
+            }
+        }
+    }
     for velocity in [127u8, 64] {
         let v = f32::from(velocity) / 127.0;
         let preset = render(stem, &preset_sets, v);
-        let plain = render(stem, &[(ParamId::Closure, 0.0)], v);
+        let plain = render(stem, &plain_sets, v);
         let reference = render(stem, &resolved, v);
         for window in WINDOWS {
             let (p, c, r) = (

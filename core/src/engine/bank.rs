@@ -286,6 +286,7 @@ impl Bank {
                 v.get(ParamId::BandLimit) as f64,
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
+                v.index_of(ParamId::InPlaneModes),
             )
         } else if v.model().is_network() {
             (v.get(ParamId::SimRate) as f64)

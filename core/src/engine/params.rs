@@ -187,7 +187,7 @@ params! {
     InPlaneModes, "in_plane_modes", "In-plane modes", "", r::PLATE_IN_PLANE_MODES.play_min as f32, r::PLATE_IN_PLANE_MODES.play_max as f32, 15.0, INT, true, Quality, Plates, Plain(""),
         "Quality: in-plane modes N_Psi of plates (0: linear plate).";
     SimRate, "sim_rate", "Simulation rate", "Hz", r::PLATE_SIM_RATE.play_min as f32, r::PLATE_SIM_RATE.play_max as f32, 8000.0, LOG, true, Quality, All, Frequency,
-        "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz) and the tanpura drone at least at 16 kHz: for them this is a floor, to oversample.";
+        "Quality: the models' own time-step rate, resampled to the host rate. Plates run at least at band limit / 0.45 (13.4 kHz for 6 kHz), nonlinear ones (in-plane modes above 0) at band limit / 0.36 (16.7 kHz) and the tanpura drone at least at 16 kHz: for them this is a floor, to oversample.";
     Scheme, "scheme", "Scheme", "", 0.0, 3.0, 3.0, ParamKind::Enum { names: SCHEME_NAMES, keys: SCHEME_KEYS }, true, Quality, Plates, Plain(""),
         "Quality: plate time scheme.";
     Polyphony, "polyphony", "Polyphony", "voices", 1.0, 16.0, 4.0, INT, true, Quality, All, Count("voice", "voices"),

@@ -3,8 +3,11 @@
 //!
 //! The simulation rate of a plate bank follows from the band limit `B`: the modes a note keeps
 //! lie under `B`, and a mode is heard below [`HEARD_FRACTION`]` fs`, so `fs = B / 0.45` rounded
-//! up to 100 Hz (13.4 kHz for the default 6 kHz band), or the `sim_rate` parameter if higher
-//! (oversampling, for accuracy studies of the time step).
+//! up to 100 Hz (13.4 kHz for the default 6 kHz band) for a linear plate. A nonlinear plate
+//! runs at least at `B /` [`NONLINEAR_BAND_FRACTION`] (16.7 kHz for 6 kHz), so the in-plane
+//! stress cannot pump the modes under the band through the time step's aliasing (see the
+//! constant; a note's modes above it are overdamped, `engine/voice/plate/kept.rs`).
+//! The `sim_rate` parameter, if higher, oversamples (for accuracy studies of the time step).
 //!
 //! Worker thread (allocates; seconds for large bases on a cold modal cache).
 
@@ -17,7 +20,7 @@ use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{
     hand_radius, tier_ladder, AboveModes, Frame, PlateData, PlateVoice, Voice, VoiceModel,
-    HEARD_FRACTION,
+    HEARD_FRACTION, NONLINEAR_BAND_FRACTION,
 };
 use crate::error::ParamError;
 use crate::modal::TensorStorage;
@@ -36,12 +39,19 @@ use std::sync::Arc;
 /// by 4 semitones (`1.5 · 2^(4/12) = 1.89`).
 const THETA1_OMEGA_H: f64 = 1.5;
 
-/// Simulation rate (Hz) of a plate bank with band limit `band_hz`, rate floor `floor_hz` and
-/// scheme `scheme` (the `scheme` parameter's index): `band / 0.45` rounded up to 100 Hz (module
-/// doc), and for the conservative θ = 1 scheme (index 0), conditionally stable, at least
-/// `2π band / 1.5` (so every mode under the band has `ω h ≤ 1.5`).
-pub fn plate_sim_rate(band_hz: f64, floor_hz: f64, scheme: usize) -> f64 {
-    let heard = band_hz / HEARD_FRACTION;
+/// Simulation rate (Hz) of a plate bank with band limit `band_hz`, rate floor `floor_hz`,
+/// scheme `scheme` (the `scheme` parameter's index) and `in_plane_modes` (0: linear): `band /
+/// 0.45` rounded up to 100 Hz (module doc), `band / 0.36` for a nonlinear plate
+/// ([`NONLINEAR_BAND_FRACTION`]), and for the conservative θ = 1 scheme (index 0),
+/// conditionally stable, at least `2π band / 1.5` (so every mode under the band has
+/// `ω h ≤ 1.5`).
+pub fn plate_sim_rate(band_hz: f64, floor_hz: f64, scheme: usize, in_plane_modes: usize) -> f64 {
+    let fraction = if in_plane_modes > 0 {
+        NONLINEAR_BAND_FRACTION
+    } else {
+        HEARD_FRACTION
+    };
+    let heard = band_hz / fraction;
     let stable = if scheme == 0 {
         2.0 * PI * band_hz / THETA1_OMEGA_H
     } else {
@@ -285,4 +295,21 @@ pub(crate) fn plate_voices(
         }
     }
     Ok((voices, fitted))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default 6 kHz band: 13.4 kHz for a linear plate, 16.7 kHz for a nonlinear one (the
+    /// top mode's alias of the parametric resonance then lies at `fs - 2B` = 4.7 kHz, not
+    /// 1.4 kHz), the `sim_rate` floor when higher, and the θ = 1 scheme's stability bound
+    /// (`2π · 6000 / 1.5` = 25.13 kHz) when that is higher still. Exact: rounded to 100 Hz.
+    #[test]
+    fn a_nonlinear_plate_runs_at_its_band_over_0_36() {
+        assert_eq!(plate_sim_rate(6000.0, 8000.0, 3, 0), 13_400.0);
+        assert_eq!(plate_sim_rate(6000.0, 8000.0, 3, 15), 16_700.0);
+        assert_eq!(plate_sim_rate(6000.0, 31_200.0, 3, 15), 31_200.0);
+        assert_eq!(plate_sim_rate(6000.0, 8000.0, 0, 15), 25_200.0);
+    }
 }

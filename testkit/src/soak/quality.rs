@@ -65,6 +65,9 @@ const FINAL: [ParamId; 9] = [
 /// Strings of the largest drone (each stepped every step).
 const DRONE_MAX_STRINGS: usize = 6;
 
+/// In-plane modes of the gong a split-step burst asks for ([`finish_split`]).
+const SPLIT_IN_PLANE: usize = 15;
+
 /// The taraf of a sitar burst (each string 48 modes).
 const SITAR_SOAK_TARAF: usize = 3;
 
@@ -160,19 +163,19 @@ pub fn finish(
         poly = 1;
     }
     let scheme = d.value(info(ParamId::Scheme));
-    // The rate the bank will run at (the parameters are `f32`).
-    let rate_of = |sim_rate: f64, band: f64| {
-        let sim = sim_rate as f32 as f64;
-        if kind.is_plate() {
-            plate_sim_rate(band as f32 as f64, sim, scheme as usize)
-        } else {
-            sim
-        }
-    };
     let in_plane = if d.chance(0.2) {
         0
     } else {
         d.below(cfg.max_in_plane as u64 + 1) as usize
+    };
+    // The rate the bank will run at (the parameters are `f32`).
+    let rate_of = |sim_rate: f64, band: f64| {
+        let sim = sim_rate as f32 as f64;
+        if kind.is_plate() {
+            plate_sim_rate(band as f32 as f64, sim, scheme as usize, in_plane)
+        } else {
+            sim
+        }
     };
     while (modes * poly) as f64 * rate_of(sim_rate, band) > cfg.budget && (poly > 1 || modes > 4) {
         if poly > 1 {
@@ -237,13 +240,20 @@ fn finish_split(
     let floor = ParamId::SimRate.info().min as f64;
     let poly = 1;
     let mut band = d.between(11_500.0, 12_000.0).round();
-    let rate = |band: f64| plate_sim_rate(band as f32 as f64, floor as f32 as f64, sav as usize);
+    let rate = |band: f64| {
+        plate_sim_rate(
+            band as f32 as f64,
+            floor as f32 as f64,
+            sav as usize,
+            SPLIT_IN_PLANE,
+        )
+    };
     if current.is_some_and(|c| c.sim_rate == rate(band)) {
         band = (band * 1.025).round();
     }
     params.set(ParamId::Scheme, sav)?;
     params.set(ParamId::Modes, 800.0)?;
-    params.set(ParamId::InPlaneModes, 15.0)?;
+    params.set(ParamId::InPlaneModes, SPLIT_IN_PLANE as f32)?;
     params.set(ParamId::Polyphony, poly as f32)?;
     params.set(ParamId::SimRate, floor as f32)?;
     params.set(ParamId::BandLimit, band as f32)?;

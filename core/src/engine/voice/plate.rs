@@ -45,6 +45,12 @@ pub(crate) const MIN_TIER_PSI: usize = 4;
 /// kept stable by the exact scheme but their samples would alias (their weights are zeroed).
 pub(crate) const HEARD_FRACTION: f64 = 0.45;
 
+/// Largest ratio of a nonlinear plate's band (the top mode a note keeps in motion) to the
+/// simulation rate: the top mode's alias of the parametric resonance under the in-plane
+/// stress then lies at `0.28 fs`, above the stress's strong part (`plate/kept.rs` says why
+/// and what was measured; the bank's rate follows, [`crate::engine::plate_sim_rate`]).
+pub(crate) const NONLINEAR_BAND_FRACTION: f64 = 0.36;
+
 /// Where the strike and the pickups sit in the basis's frame.
 #[derive(Debug, Clone)]
 pub(crate) enum Frame {
@@ -326,7 +332,7 @@ impl PlateVoice {
     /// modified frequencies. Audio thread, O(N_Φ).
     fn reach(&self) -> f64 {
         let h = 1.0 / self.fs;
-        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let wmax = self.kept_limit();
         let n = self.data.tiers[self.tier].0;
         let sum: f64 = (0..n)
             .filter(|&s| self.omega[s] < wmax && self.omega[s] > 0.0)
@@ -486,10 +492,10 @@ impl PlateVoice {
         // make a low mode creep back slower (rate ω²/c).
         let law = |w: f64| (ds * (da * w.powf(db) + dc)).max(floor.min(2.0 * w));
         for (s, &l2) in self.data.lambda2.iter().enumerate().take(n) {
-            let w = l2 * scale;
-            self.omega[s] = w;
-            self.damping[s] = law(w);
+            self.omega[s] = l2 * scale;
         }
+        // A nonlinear note's modes from the kept limit on are overdamped (`kept.rs`).
+        self.write_damping(n, law);
         let a4 = in_plane_divisor(a);
         for (z, &zh) in self.zeta4.iter_mut().zip(&self.data.zeta4).take(m) {
             *z = zh / a4;
@@ -516,10 +522,11 @@ impl PlateVoice {
         ok
     }
 
-    /// Strike and pickup weights `Φ̂_s / a` of the tier in use, zero above
-    /// [`HEARD_FRACTION`]` fs`.
+    /// Strike and pickup weights `Φ̂_s / a` of the tier in use, zero from the kept limit on
+    /// ([`Self::kept_limit`]: [`HEARD_FRACTION`]` fs` on a linear plate,
+    /// [`NONLINEAR_BAND_FRACTION`]` fs` on a nonlinear one).
     fn write_weights(&mut self, a: f64) {
-        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let wmax = self.kept_limit();
         let inv_a = 1.0 / a;
         let model = &mut self.models[self.tier];
         let omega = &self.omega;
@@ -581,7 +588,7 @@ impl PlateVoice {
     /// What the voice simulates for its note.
     pub fn model_info(&self) -> VoiceModelInfo {
         let (n, m) = self.data.tiers[self.tier];
-        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let wmax = self.kept_limit();
         let top = self.omega[..n]
             .iter()
             .copied()
@@ -620,6 +627,7 @@ impl PlateVoice {
 
 mod above;
 mod hand_pressure;
+mod kept;
 mod rest_shape;
 #[cfg(test)]
 mod same_plate_tests;

@@ -39,9 +39,10 @@
 //!   curved plates only ([`TruncationClosure::set_gated`]): there the curvature's linear
 //!   stiffness makes the nonlinear share of a loud note large (its cubic part), and there the
 //!   pile-up measure failed; a flat plate's loud notes hold a share of 0.02-0.07, of the order
-//!   of a shell's weak notes, so one threshold cannot serve both, and on the flat plates
-//!   measured the pile-up measure alone separated the notes (the 80 N gong: `X` 7-2800 loud,
-//!   under 0.1 weak):
+//!   of a shell's weak notes, so one threshold cannot serve both (the flat gongs' cascade
+//!   stops inside their band at the nonlinear plates' rate, so they need no closure; the
+//!   80 N gong's `X` of 7-2800 measured at 13.4 kHz was the time step's aliasing,
+//!   docs/ACCURACY.md):
 //!
 //! ```text
 //! γ = β ω_max (X / X₀ - 1)⁺ g(ε̄),   mode s damped at w_s γ
@@ -98,6 +99,10 @@ pub const NONLINEARITY_TIME_CONSTANT: f64 = 0.05;
 /// [`NONLINEARITY_TIME_CONSTANT`], hundreds of steps; the in-plane split costs `O(N_Φ N_Ψ)` on a
 /// curved plate, as much as a tenth of the step).
 pub const GATE_STRIDE: u32 = 8;
+
+/// A mode whose damping exceeds this multiple of its angular frequency (five times critical)
+/// is not an oscillator the cascade fills: [`TruncationClosure::retune`] leaves it out.
+pub const OVERDAMPED_RATIO: f64 = 10.0;
 
 /// The calibrated closure strength `β` (see the module doc): a pile-up twice the threshold
 /// damps the top mode at a tenth of its angular frequency.
@@ -228,11 +233,17 @@ impl TruncationClosure {
 
     /// Recomputes the layer, the band below and the weights from the modes' physical angular
     /// frequencies `omega` (rad/s; not the exact scheme's warped `ω̃`, which crowds the top
-    /// modes together below `2/h`), their `ω̃²` (`omega_sq`) and the step `h` (s), after the
-    /// coefficients changed; the averages and the rate are kept (a pitch bend does not restart
-    /// the cascade). Audio thread: no allocation, `O(N_Φ)`.
-    pub fn retune(&mut self, omega: &[f64], omega_sq: &[f64], h: f64) {
-        let top = omega.iter().fold(0.0f64, |m, &w| m.max(w));
+    /// modes together below `2/h`), their `ω̃²` (`omega_sq`), their physical damping `damping`
+    /// (1/s) and the step `h` (s), after the coefficients changed; the averages and the rate
+    /// are kept (a pitch bend does not restart the cascade). A mode damped past
+    /// [`OVERDAMPED_RATIO`]` ω` does not oscillate (a note's modes above its kept band,
+    /// `engine/voice/plate/kept.rs`): it belongs to neither layer and does not set the top.
+    /// Audio thread: no allocation, `O(N_Φ)`.
+    pub fn retune(&mut self, omega: &[f64], omega_sq: &[f64], damping: &[f64], h: f64) {
+        let live = |s: usize| damping[s] <= OVERDAMPED_RATIO * omega[s];
+        let top = (0..omega.len())
+            .filter(|&s| live(s))
+            .fold(0.0f64, |m, s| m.max(omega[s]));
         let lower = self.layer * top;
         let floor = self.layer * lower;
         (self.n_layer, self.n_below) = (0, 0);
@@ -243,6 +254,10 @@ impl TruncationClosure {
             } else {
                 1.0
             };
+            if !live(s) {
+                (self.weights[s], self.band[s]) = (0.0, 0);
+                continue;
+            }
             let omega = omega[s].max(0.0);
             let x = (omega - lower) / (top - lower);
             self.weights[s] = if x.is_finite() {
@@ -377,7 +392,7 @@ mod tests {
         let mut c = TruncationClosure::new(5);
         c.configure(1.0, 0.5, 1e-3);
         let omega = [100.0f64, 400.0, 50.0, 300.0, 150.0];
-        c.retune(&omega, &omega.map(|w| w * w), 1e-5);
+        c.retune(&omega, &omega.map(|w| w * w), &[0.0; 5], 1e-5);
         // (ω - 200) / 200, clamped.
         let expect = [0.0, 1.0, 0.0, 0.5, 0.0];
         for (w, e) in c.weights.iter().zip(expect) {
@@ -385,6 +400,25 @@ mod tests {
         }
         assert_eq!(c.band, [-1, 1, 0, 1, -1]);
         assert_eq!((c.n_layer, c.n_below), (2, 2));
+    }
+
+    /// An overdamped mode (a note's mode above its kept band) is left out: the top is the
+    /// highest live mode (300), the layer ramps from 150, and the overdamped mode 400 is in
+    /// neither layer. At exactly `OVERDAMPED_RATIO ω` a mode is still live.
+    #[test]
+    fn overdamped_modes_are_left_out() {
+        let mut c = TruncationClosure::new(5);
+        c.configure(1.0, 0.5, 1e-3);
+        let omega = [100.0f64, 400.0, 50.0, 300.0, 150.0];
+        let damping = [0.0, 4001.0, 0.0, 3000.0, 0.0];
+        c.retune(&omega, &omega.map(|w| w * w), &damping, 1e-5);
+        // (ω - 150) / 150, clamped.
+        let expect = [0.0, 0.0, 0.0, 1.0, 0.0];
+        for (w, e) in c.weights.iter().zip(expect) {
+            assert!((w - e).abs() < 1e-15, "{w} vs {e}");
+        }
+        assert_eq!(c.band, [-1, 0, 0, 1, 1]);
+        assert_eq!((c.n_layer, c.n_below), (2, 1));
     }
 
     /// The rate is `β ω_max (X/X₀ - 1)⁺ g`: none while the layer holds little energy per mode
@@ -397,7 +431,7 @@ mod tests {
         c.configure(0.01, 0.5, 1e-9);
         let omega = [900.0f64, 2000.0];
         let w2: Vec<f64> = omega.iter().map(|w| w * w).collect();
-        c.retune(&omega, &w2, h);
+        c.retune(&omega, &w2, &vec![0.0; omega.len()], h);
         // Still modes (e = ½ω²q²): X = ½·2000²·q₁² / ½·900²·q₀².
         let x = |q: [f64; 2]| (2000.0 * q[1] / (900.0 * q[0])).powi(2);
         let piled = [1.0, 0.2];
@@ -448,7 +482,7 @@ mod tests {
         assert_eq!(c.rate(), 0.0);
         // Capped at a quarter of the top angular frequency.
         c.configure(MAX_STRENGTH * DEFAULT_STRENGTH, 0.5, 1e-9);
-        c.retune(&omega, &w2, h);
+        c.retune(&omega, &w2, &vec![0.0; omega.len()], h);
         c.observe((&piled, &piled, &piled), &w2, Some((u_nl, 0.0)), 1.0, h);
         c.observe((&piled, &piled, &piled), &w2, Some((u_nl, 0.0)), 1.0, h);
         assert_eq!(c.rate(), MAX_RATE_RATIO * 2000.0);

@@ -355,7 +355,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             DEFAULT_LAYER,
             DEFAULT_TIME_CONSTANT,
         );
-        self.closure.retune(&self.omega, &self.omega_sq, self.h);
+        self.closure
+            .retune(&self.omega, &self.omega_sq, &self.damping, self.h);
         self.write_closure_coefficients();
         Ok(())
     }

@@ -25,7 +25,12 @@ impl PlateVoice {
         rho_h: f64,
     ) {
         let modes = &self.data.above;
-        let from = self.data.tiers[self.tier].0.min(modes.list.len());
+        // The band above starts at the first mode the note does not keep in motion
+        // (`kept.rs`): the tier's top modes past it on a nonlinear plate, the next mode of
+        // the list otherwise.
+        let from = self
+            .kept_modes(self.data.tiers[self.tier].0)
+            .min(modes.list.len());
         let ceiling = TAU * ceiling_hz(self.above.rate);
         let mut k = 0;
         for &l2 in &modes.list.lambda2[from..] {

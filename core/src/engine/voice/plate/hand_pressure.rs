@@ -3,19 +3,19 @@
 //!
 //! Threads: audio thread, no allocation.
 
-use super::{PlateVoice, HEARD_FRACTION};
+use super::PlateVoice;
 use crate::engine::voice::hand_placement::hand_c_max;
-use std::f64::consts::TAU;
 
 impl PlateVoice {
-    /// The hand of the tier in use: weights `Φ̂_s / a` at the hand point, zero above
-    /// [`HEARD_FRACTION`]` fs` as the strike's and the pickups' (the exact scheme aliases those
-    /// modes, and a damper coupling them to the heard ones would damp by aliased velocities),
+    /// The hand of the tier in use: weights `Φ̂_s / a` at the hand point, zero from the kept
+    /// limit on ([`PlateVoice::kept_limit`]) as the strike's and the pickups' (the exact scheme
+    /// aliases the modes above `0.45 fs`, and a damper coupling them to the heard ones would
+    /// damp by aliased velocities; a nonlinear note's modes from `0.36 fs` are overdamped),
     /// `c_max` for the note ([`hand_c_max`]) and `c = pressure · c_max`. Audio thread,
     /// O(N_Φ), no allocation.
     pub(super) fn write_hand(&mut self, a: f64, rho_h: f64) {
         let (n, _) = self.data.tiers[self.tier];
-        let wmax = HEARD_FRACTION * TAU * self.fs;
+        let wmax = self.kept_limit();
         let model = &mut self.models[self.tier];
         let inv_a = 1.0 / a;
         for ((w, &x), &om) in model

@@ -50,6 +50,7 @@ fn both(v: &ParamValues) -> (Box<PlateVoice>, ScenePlate) {
         v.get(ParamId::BandLimit) as f64,
         v.get(ParamId::SimRate) as f64,
         v.index_of(ParamId::Scheme),
+        v.index_of(ParamId::InPlaneModes),
     );
     let jobs = Jobs {
         host: 48_000.0,
@@ -178,6 +179,7 @@ fn every_plate_preset_is_a_valid_scene() {
                 v.get(ParamId::BandLimit) as f64,
                 v.get(ParamId::SimRate) as f64,
                 v.index_of(ParamId::Scheme),
+                v.index_of(ParamId::InPlaneModes),
             ),
         );
         if let Err(e) = spec.validate() {

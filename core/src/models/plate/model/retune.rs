@@ -101,7 +101,8 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             self.b[s] = 2.0 - h * h * lc.omega_sq;
             self.d[s] = 1.0 - 0.5 * lc.damping * h;
         }
-        self.closure.retune(&self.omega, &self.omega_sq, h);
+        self.closure
+            .retune(&self.omega, &self.omega_sq, &self.damping, h);
         self.write_closure_coefficients();
         let mut potential_changed = false;
         for (l, &z) in zeta4.iter().enumerate() {
