@@ -19,9 +19,11 @@ use super::model_spec::{plate_spec, position};
 use super::params::{ParamId, ParamValues};
 use super::telemetry::SNAPSHOT_POINTS;
 use super::voice::{
-    hand_radius, tier_ladder, AboveModes, Frame, PlateData, PlateVoice, Voice, VoiceModel,
-    HEARD_FRACTION, NONLINEAR_BAND_FRACTION,
+    band_fraction, hand_radius, tier_ladder, AboveModes, Frame, PlateData, PlateVoice, Voice,
+    VoiceModel,
 };
+#[cfg(doc)]
+use super::voice::{HEARD_FRACTION, NONLINEAR_BAND_FRACTION};
 use crate::error::ParamError;
 use crate::modal::TensorStorage;
 use crate::models::plate::basis::{shared_tier, ModalCache, PlateBasis};
@@ -46,12 +48,7 @@ const THETA1_OMEGA_H: f64 = 1.5;
 /// conditionally stable, at least `2π band / 1.5` (so every mode under the band has
 /// `ω h ≤ 1.5`).
 pub fn plate_sim_rate(band_hz: f64, floor_hz: f64, scheme: usize, in_plane_modes: usize) -> f64 {
-    let fraction = if in_plane_modes > 0 {
-        NONLINEAR_BAND_FRACTION
-    } else {
-        HEARD_FRACTION
-    };
-    let heard = band_hz / fraction;
+    let heard = band_hz / band_fraction(in_plane_modes == 0);
     let stable = if scheme == 0 {
         2.0 * PI * band_hz / THETA1_OMEGA_H
     } else {

@@ -51,9 +51,9 @@ pub(crate) use drone::DroneVoice;
 pub use drone::DRONE_FORCE_REF;
 pub(crate) use hand_placement::hand_radius;
 pub use hand_placement::{HAND_MIN_RADIUS, HAND_STRING_POSITION, HAND_T60};
-pub(crate) use plate::{
-    tier_ladder, Frame, PlateData, PlateVoice, HEARD_FRACTION, NONLINEAR_BAND_FRACTION,
-};
+pub(crate) use plate::{band_fraction, tier_ladder, Frame, PlateData, PlateVoice};
+#[cfg(doc)]
+pub(crate) use plate::{HEARD_FRACTION, NONLINEAR_BAND_FRACTION};
 pub(crate) use sitar::SitarVoice;
 pub use sitar::SITAR_FORCE_REF;
 pub(crate) use string::StringVoice;

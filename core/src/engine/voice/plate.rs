@@ -51,6 +51,17 @@ pub(crate) const HEARD_FRACTION: f64 = 0.45;
 /// and what was measured; the bank's rate follows, [`crate::engine::plate_sim_rate`]).
 pub(crate) const NONLINEAR_BAND_FRACTION: f64 = 0.36;
 
+/// The fraction of the simulation rate under which a plate's notes keep their modes in
+/// motion (and its bank's band lies): [`HEARD_FRACTION`] for a linear plate,
+/// [`NONLINEAR_BAND_FRACTION`] for a nonlinear one. Any thread.
+pub(crate) fn band_fraction(linear: bool) -> f64 {
+    if linear {
+        HEARD_FRACTION
+    } else {
+        NONLINEAR_BAND_FRACTION
+    }
+}
+
 /// Where the strike and the pickups sit in the basis's frame.
 #[derive(Debug, Clone)]
 pub(crate) enum Frame {

@@ -38,7 +38,9 @@
 //!
 //! Threads: audio thread, no allocation.
 
-use super::{PlateVoice, HEARD_FRACTION, NONLINEAR_BAND_FRACTION};
+use super::{band_fraction, PlateVoice};
+#[cfg(doc)]
+use super::{HEARD_FRACTION, NONLINEAR_BAND_FRACTION};
 use std::f64::consts::TAU;
 
 /// Damping of a mode a nonlinear note does not keep in motion, as a multiple of its angular
@@ -52,12 +54,7 @@ impl PlateVoice {
     /// [`NONLINEAR_BAND_FRACTION`]` · 2π fs` on a nonlinear plate, [`HEARD_FRACTION`]`· 2π fs`
     /// (where the strike and the pickups stop) on a linear one. Audio thread.
     pub(super) fn kept_limit(&self) -> f64 {
-        let fraction = if self.data.linear {
-            HEARD_FRACTION
-        } else {
-            NONLINEAR_BAND_FRACTION
-        };
-        fraction * TAU * self.fs
+        band_fraction(self.data.linear) * TAU * self.fs
     }
 
     /// Writes the damping of the tier's first `n` modes from their angular frequencies
