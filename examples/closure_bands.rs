@@ -12,9 +12,11 @@
 //! it needs to converge, for one. A note takes the tier of its band, whose in-plane modes are
 //! `in_plane_modes` scaled by its share of `modes`. `preset:KEY=VALUE` sets it on the preset
 //! and the plain columns instead (another choice of the preset, against the same reference).
+//! The word `floor` among them adds the reference's chaotic floor: the reference against
+//! itself struck 1e-4 softer, per band and as its worst band (one more reference render).
 //!
 //! ```text
-//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE [KEY=VALUE ...]]]]]
+//! cargo run --release --example closure_bands [-- STEM [BAND [RATE [CLOSURE [KEY=VALUE ...] [floor]]]]]
 //! (defaults: crash 14000 62400, the preset's own closure)
 //! ```
 
@@ -60,7 +62,8 @@ fn main() {
     ];
     let mut preset_sets = preset_sets;
     let mut plain_sets = vec![(ParamId::Closure, 0.0)];
-    for set in args.iter().skip(4) {
+    let with_floor = args.iter().skip(4).any(|a| a == "floor");
+    for set in args.iter().skip(4).filter(|a| *a != "floor") {
         let (target, set) = match set.strip_prefix("preset:") {
             Some(rest) => (None, rest),
             None => (Some(&mut resolved), set.as_str()),
@@ -81,29 +84,56 @@ fn main() {
         let preset = render(stem, &preset_sets, v);
         let plain = render(stem, &plain_sets, v);
         let reference = render(stem, &resolved, v);
+        // The chaotic floor's twin: the same reference struck 1e-4 softer.
+        let twin = with_floor.then(|| render(stem, &resolved, v * (1.0 - 1e-4)));
         for window in WINDOWS {
             let (p, c, r) = (
                 relative_band_levels(&preset, HOST_RATE, window),
                 relative_band_levels(&plain, HOST_RATE, window),
                 relative_band_levels(&reference, HOST_RATE, window),
             );
+            let f = twin
+                .as_ref()
+                .map(|t| relative_band_levels(t, HOST_RATE, window));
             println!(
                 "{stem}, velocity {velocity}, {}-{} s: band (Hz), reference (dB of the total), \
-                 preset - reference, plain - reference",
-                window.0, window.1
+                 preset - reference, plain - reference{}",
+                window.0,
+                window.1,
+                if f.is_some() { ", floor" } else { "" }
             );
-            let (mut worst_preset, mut worst_plain) = (0.0f64, 0.0f64);
-            for ((&(hz, pl), &(_, cl)), &(_, rl)) in p.iter().zip(&c).zip(&r) {
+            let (mut worst_preset, mut worst_plain, mut worst_floor) = (0.0f64, 0.0f64, 0.0f64);
+            // The target's measure: bands within 60 dB of the total, each against the larger
+            // of 3 dB and its own floor; (excess over that, band, difference).
+            let mut worst_heard = (f64::NEG_INFINITY, 0.0f64, 0.0f64);
+            for (i, ((&(hz, pl), &(_, cl)), &(_, rl))) in p.iter().zip(&c).zip(&r).enumerate() {
+                let floor = f.as_ref().map(|f| (f[i].1 - rl).abs());
                 if (90.0..17_000.0).contains(&hz) {
-                    println!("{hz:8.0} {rl:8.1} {:+7.1} {:+7.1}", pl - rl, cl - rl);
+                    let shown = floor.map_or(String::new(), |d| format!(" {d:7.1}"));
+                    println!("{hz:8.0} {rl:8.1} {:+7.1} {:+7.1}{shown}", pl - rl, cl - rl);
                 }
                 if (90.0..13_000.0).contains(&hz) {
                     worst_preset = worst_preset.max((pl - rl).abs());
                     worst_plain = worst_plain.max((cl - rl).abs());
+                    worst_floor = worst_floor.max(floor.unwrap_or(0.0));
+                    let excess = (pl - rl).abs() - floor.unwrap_or(0.0).max(3.0);
+                    if rl >= -60.0 && excess > worst_heard.0 {
+                        worst_heard = (excess, hz, pl - rl);
+                    }
                 }
             }
+            let floor = if f.is_some() {
+                format!(", floor {worst_floor:.1} dB")
+            } else {
+                String::new()
+            };
             println!(
-                "worst, 99 Hz-12.5 kHz: preset {worst_preset:.1} dB, plain {worst_plain:.1} dB"
+                "worst, 99 Hz-12.5 kHz: preset {worst_preset:.1} dB, plain {worst_plain:.1} dB{floor}"
+            );
+            println!(
+                "worst within 60 dB of the total: preset {:+.1} dB at {:.0} Hz, {:+.1} dB over \
+                 the larger of 3 dB and its floor",
+                worst_heard.2, worst_heard.1, worst_heard.0
             );
         }
     }
