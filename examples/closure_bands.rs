@@ -1,8 +1,8 @@
 //! The band table of a plate preset against its resolved reference (a sound designer's and a
 //! researcher's tool): plays the preset's root key (one voice, 1.5 s held) as the preset, with
-//! its closure off (the plain truncation; the band above then gets nothing), and resolved (the
-//! band raised to `BAND` Hz with up to 1400 modes, the conservative-exact scheme at `RATE` Hz,
-//! no closure), at velocities 127 and 64, and prints each third-octave's level relative to
+//! its closure off (the plain truncation; the band above then gets only the strike), and
+//! resolved (the band raised to `BAND` Hz with up to 1400 modes, the conservative-exact scheme
+//! at `RATE` Hz, no closure, no band above), at velocities 127 and 64, and prints each third-octave's level relative to
 //! the window's total over 0-0.3 s and 0.3-1.5 s: the reference's, and the preset's and the
 //! plain truncation's differences from it (dB), then the worst from 99 Hz to 12.5 kHz.
 //! docs/ACCURACY.md ("The closure's gate; the crash at twice its rate") shows the crash's.
@@ -55,6 +55,8 @@ fn main() {
         .collect();
     let mut resolved = vec![
         (ParamId::Closure, 0.0),
+        // The plain resolved truncation: no band above (nor its contact residual).
+        (ParamId::BandAbove, 0.0),
         (ParamId::BandLimit, band),
         (ParamId::Modes, 1400.0),
         (ParamId::Scheme, 1.0), // conservative-exact

@@ -92,6 +92,7 @@ impl PlateCase {
             sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
             closure: 0.0,
             band_above: false,
+            strike_above: false,
             tensor_storage: Default::default(),
             damping: self.damping,
             excitation: Excitation::Strike {

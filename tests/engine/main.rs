@@ -27,6 +27,7 @@ mod per_note;
 mod pitch_from_sound;
 mod preset_levels;
 mod sitar;
+mod strike_above;
 mod string_presets;
 mod tiers;
 

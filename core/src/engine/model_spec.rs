@@ -161,6 +161,7 @@ pub(crate) fn plate_spec(
         sav_relaxation: crate::models::plate::spec::default_sav_relaxation(),
         closure: get(ParamId::Closure),
         band_above: v.index_of(ParamId::BandAbove) == 1,
+        strike_above: v.index_of(ParamId::StrikeAbove) == 1,
         // The bank's tiers share one tensor rounded to `f32` (`engine/plate_bank.rs`).
         tensor_storage: TensorStorage::Single,
         damping: Damping::Power {

@@ -266,6 +266,8 @@ params! {
         "Sitar with taraf: the high drone strings beside the played string on the main bridge's jawari: the upper Sa, the Sa above it, then Pa.";
     ChikariStroke, "chikari_stroke", "Chikari stroke", "", 0.0, 1.0, 0.0, F, false, Excitation, SitarTaraf, Percent,
         "Sitar with taraf: each note also strokes the chikari at this fraction of its pluck (the jhala's da-ra on the drone strings; 0: the chikari only ring in sympathy).";
+    StrikeAbove, "strike_above", "Strike above", "", 0.0, 1.0, 0.0, ParamKind::Enum { names: ON_OFF_NAMES, keys: ON_OFF_NAMES }, false, Quality, Plates, Plain(""),
+        "Plates, exciter 'mallet', with the band above on: the mallet's contact feels the plate's modes above the simulated band (their point resistance 8 sqrt(D rho h) and their static compliance), and the energy it gives them sounds in the band above. A hard stick then rings the cymbal to 20 kHz even struck softly, and no longer overfills the top of the band. Off: the contact sees the simulated modes only (docs/models.md, the contact residual).";
 }
 
 /// Number of parameters (rows of [`PARAMS`]).

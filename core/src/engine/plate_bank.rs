@@ -142,6 +142,15 @@ fn above_points(kind: ModelKind, frame: &Frame) -> [Position; 2] {
     }
 }
 
+/// The strike position of `frame` for the band above: `(r_s, 0)` in a mirror frame, the
+/// point of the bank's strike radius at `angle` (rad, the strike angle parameter) otherwise.
+fn above_strike(kind: ModelKind, frame: &Frame, angle: f64) -> Position {
+    match frame {
+        Frame::Mirror { strike_radius, .. } => position(kind, *strike_radius, 0.0),
+        Frame::Fixed { strike_radius, .. } => position(kind, *strike_radius, angle),
+    }
+}
+
 /// The top mode's frequency (Hz) of the plate `spec` on its blueprint's basis at the root key:
 /// the band above lists the modes past it ([`PlateBlueprint::modes_above`]). Worker thread.
 fn top_mode_hz(spec: &PlateSpec, plate: &PlateBlueprint) -> f64 {
@@ -191,6 +200,7 @@ pub(crate) fn plate_voices(
     let above = AboveModes::new(
         plate.modes_above(top_mode_hz(&spec, &plate)),
         above_points(kind, &frame),
+        above_strike(kind, &frame, v.get(ParamId::StrikeAngle) as f64),
     );
     let scheme = spec.scheme;
     // One sub-tensor per tier, shared by the voices, in single storage: the values rounded to

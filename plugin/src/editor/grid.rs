@@ -180,6 +180,7 @@ const SECTIONS: [Section; 9] = {
                 BandLimit,
                 Closure,
                 BandAbove,
+                StrikeAbove,
                 SimRate,
                 Scheme,
                 Polyphony,

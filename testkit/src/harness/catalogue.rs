@@ -62,6 +62,7 @@ pub fn plate_spec(
         sav_relaxation: noether_core::models::plate::spec::default_sav_relaxation(),
         closure: 0.0,
         band_above: false,
+        strike_above: false,
         tensor_storage: Default::default(),
         damping,
         excitation,

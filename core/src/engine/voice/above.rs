@@ -18,16 +18,25 @@ pub(crate) struct AboveModes {
     /// `Φ̂_e` of every listed mode at the left and right pickups, in the frame's convention
     /// (mirror: at `(r_p, 0)`, rotated per note; fixed: at the pickup points).
     pub pickups: [Vec<f64>; 2],
+    /// `Φ̂_e` of every listed mode at the bank's strike point (mirror: `(r_s, 0)`; fixed: the
+    /// point of the bank's strike radius and angle).
+    pub strike: Vec<f64>,
 }
 
 impl AboveModes {
     /// Takes the plate's mode `list` (at least the basis's modes;
     /// [`crate::models::plate::blueprint::PlateBlueprint::modes_above`]) and evaluates it at the
-    /// left and right pickup positions `at` of the voices' frame (mirror: `(r_p, 0)`; fixed:
-    /// the points). Worker thread; allocates.
-    pub fn new(list: ModeList, at: [Position; 2]) -> Self {
-        let pickups = at.map(|p| (0..list.len()).map(|e| list.phi_at(e, &p)).collect());
-        Self { list, pickups }
+    /// left and right pickup positions `at` and the strike point `struck_at` of the voices'
+    /// frame (mirror: `(r, 0)`; fixed: the points). Worker thread; allocates.
+    pub fn new(list: ModeList, at: [Position; 2], struck_at: Position) -> Self {
+        let values = |p: &Position| (0..list.len()).map(|e| list.phi_at(e, p)).collect();
+        let pickups = at.map(|p| values(&p));
+        let strike = values(&struck_at);
+        Self {
+            list,
+            pickups,
+            strike,
+        }
     }
 }
 
@@ -40,6 +49,9 @@ pub(crate) struct Above {
     pub damping: Vec<f64>,
     /// Whether the `band_above` parameter is on.
     pub on: bool,
+    /// Whether the `strike_above` parameter is on: the mallet's contact feels the modes above
+    /// (with the band above on; [`crate::models::plate::contact_residual`]).
+    pub contact: bool,
     /// At rest since the last reset (nothing received yet): the run is skipped.
     pub idle: bool,
     /// The rate the band above runs at (Hz): the host rate up to 48 kHz
@@ -56,6 +68,7 @@ impl Above {
             omega: vec![0.0; n],
             damping: vec![0.0; n],
             on: true,
+            contact: false,
             idle: true,
             rate,
         }

@@ -224,6 +224,7 @@ impl PlateVoice {
         let _ = self.models[self.tier].set_closure(closure);
         self.above.reset();
         self.above.on = p.values.index_of(ParamId::BandAbove) == 1;
+        self.above.contact = p.values.index_of(ParamId::StrikeAbove) == 1;
         self.strike = None;
         self.strike_step = 0;
         self.mallet.drop_mallet();
@@ -428,6 +429,7 @@ impl PlateVoice {
             .is_ok();
         if ok {
             self.retune_above(scale, law, a, rho_h);
+            self.set_residual(e, h, rho_h, n);
             self.set_shape(v, a, h);
             self.size = a;
             self.rho_h = rho_h;

@@ -23,6 +23,19 @@
 //! the sign of its index's parity, so the modes start with no common phase). The energy put in is then
 //! `W_e` to round-off, whatever the state.
 //!
+//! **The strike.** The modes above the band are struck too. The mallet's contact sees them as
+//! the residual of the modes left out ([`super::contact_residual`]): a spring and a dashpot
+//! in series with the simulated plate, the dashpot being the plate's resistance to a point
+//! force above its top mode. What that dashpot takes from the contact is what those modes take
+//! from the stick: it is given to them here, exactly, as a second budget beside the closure's.
+//! A hard stick's contact has its spectrum up to 10-20 kHz, so a ride struck softly (linear,
+//! no cascade) still sounds above its simulated band. Mode `e` receives the share
+//! `s'_e ∝ Φ_e(x₀)² (ω_e / ω_0)^{-α}` of it: an impulse gives every mode the energy
+//! `J² Φ_e(x₀)² / 2ρh` (a mode with a node at the strike point gets none), and the contact's
+//! spectrum falls above its inverse duration as the cascade's does (the same `α`). The energy
+//! flows from the mallet through the dashpot into the modes, so the balance of plate, mallet
+//! and band closes with nothing counted twice.
+//!
 //! **Spectrum.** Mode `e` receives the share `s_e ∝ (ω_e / ω_0)^{-α}` ([`SPECTRAL_SLOPE`])
 //! of the absorbed energy (`ω_0` the lowest extension mode): the cascade front reaches the
 //! lower modes first and most. `α` is calibrated against the crash cymbal with its band
@@ -80,7 +93,10 @@ pub struct ExtensionEnergy {
     pub stored: f64,
     /// Cumulative energy received from the closure since the last reset (J).
     pub received: f64,
-    /// The part of [`Self::received`] not yet given to the modes (J, ≥ 0).
+    /// Cumulative energy received from the strike (the contact residual's dashpot) since the
+    /// last reset (J; module doc, "The strike").
+    pub struck: f64,
+    /// The part of [`Self::received`] and [`Self::struck`] not yet given to the modes (J, ≥ 0).
     pub pending: f64,
     /// Cumulative energy the modes' damping removed (J, ≥ 0).
     pub dissipated: f64,
@@ -89,16 +105,16 @@ pub struct ExtensionEnergy {
 impl ExtensionEnergy {
     /// Adds the band to a model's energy terms (those of the plate that feeds it): its stored
     /// and pending energy as [`EnergyTerms::above`], and its own losses in place of the
-    /// closure's share of the plate's dissipation (what it received), so the terms' balance
-    /// closes over plate and band.
+    /// closure's and the contact residual's shares of the plate's dissipation (what it
+    /// received and was struck with), so the terms' balance closes over plate and band.
     pub fn fold_into(&self, e: &mut EnergyTerms) {
         e.above = self.stored + self.pending;
-        e.dissipated += self.dissipated - self.received;
+        e.dissipated += self.dissipated - self.received - self.struck;
     }
 
-    /// `stored + pending + dissipated - received`: zero to round-off from a reset on.
+    /// `stored + pending + dissipated - received - struck`: zero to round-off from a reset on.
     pub fn balance(&self) -> f64 {
-        self.stored + self.pending + self.dissipated - self.received
+        self.stored + self.pending + self.dissipated - self.received - self.struck
     }
 }
 
@@ -125,6 +141,11 @@ pub struct BandExtension {
     share: Vec<f64>,
     /// `Σ share` over the modes of each turn.
     demand: [f64; STRIDE],
+    /// The strike's shares (`STRIDE s'_e / Σ s'`, module doc) and their sums per turn.
+    strike_share: Vec<f64>,
+    strike_demand: [f64; STRIDE],
+    /// The strike's part of the pending energy (J, ≥ 0).
+    strike_pending: f64,
     /// Pickup weights `Φ_e(x_p)` (1/m) of the two pickups, `capacity` each.
     weights: [Vec<f64>; 2],
     /// `h² p_e / a_e` of the modes fed this step (zero otherwise).
@@ -157,6 +178,9 @@ impl BandExtension {
             c_eff: z(),
             share: z(),
             demand: [0.0; STRIDE],
+            strike_share: z(),
+            strike_demand: [0.0; STRIDE],
+            strike_pending: 0.0,
             weights: [z(), z()],
             kick: z(),
             q: z(),
@@ -214,6 +238,9 @@ impl BandExtension {
             *s *= scale;
             self.demand[turn_of(e, n)] += *s;
         }
+        // Until `set_strike` says where the strike is, it shares as the closure does.
+        self.strike_share[..n].copy_from_slice(&self.share[..n]);
+        self.strike_demand = self.demand;
         // Slots left behind keep no motion (a retune to fewer modes drops their energy from
         // the stored sum; callers retune before a note's first step, or keep the count).
         for e in n..self.n {
@@ -232,6 +259,41 @@ impl BandExtension {
         &mut self.weights[c][..self.n]
     }
 
+    /// Sets where the modes are struck: `phi[e]`, their values at the excitation point over
+    /// the modes in use (any common scale), give the strike's shares (module doc, "The
+    /// strike"); a point on every mode's node keeps the closure's shares. Call after
+    /// [`Self::retune`]. Audio thread: no allocation, `O(N_e)`.
+    pub fn set_strike(&mut self, phi: &[f64]) {
+        let n = self.n;
+        let lowest = self.omega_sq[..n]
+            .first()
+            .copied()
+            .unwrap_or(1.0)
+            .max(f64::MIN_POSITIVE);
+        let mut total = 0.0;
+        for (e, (s, &w2)) in self.strike_share[..n]
+            .iter_mut()
+            .zip(&self.omega_sq[..n])
+            .enumerate()
+        {
+            // Modes past the end of `phi` are not reached.
+            let x = phi.get(e).copied().unwrap_or(0.0);
+            *s = x * x * (w2 / lowest).powf(-0.5 * SPECTRAL_SLOPE);
+            total += *s;
+        }
+        if !(total > 0.0 && total.is_finite()) {
+            self.strike_share[..n].copy_from_slice(&self.share[..n]);
+            self.strike_demand = self.demand;
+            return;
+        }
+        let scale = STRIDE as f64 / total;
+        self.strike_demand = [0.0; STRIDE];
+        for (e, s) in self.strike_share[..n].iter_mut().enumerate() {
+            *s *= scale;
+            self.strike_demand[turn_of(e, n)] += *s;
+        }
+    }
+
     /// Puts the modes at rest and clears the energy terms. No allocation.
     pub fn reset(&mut self) {
         for v in [&mut self.q, &mut self.q_prev, &mut self.kick] {
@@ -239,46 +301,69 @@ impl BandExtension {
         }
         self.outputs = [0.0; 2];
         self.turn = 0;
+        self.strike_pending = 0.0;
         self.energy = ExtensionEnergy::default();
     }
 
-    /// Receives `energy` (J, ≥ 0; other values are ignored) from the closure and runs
-    /// `frames` steps, giving the pending energy to the modes evenly over them; after each
-    /// step calls `out(k, [left, right])` with the pickups' velocities (m/s). Audio thread:
-    /// no allocation, `O(N_e)` per step.
-    pub fn run(&mut self, energy: f64, frames: usize, mut out: impl FnMut(usize, [f64; 2])) {
+    /// Receives `energy` (J, ≥ 0; other values are ignored) from the closure and `struck`
+    /// (J, ≥ 0; likewise) from the strike, and runs `frames` steps, giving the pending energy
+    /// to the modes evenly over them; after each step calls `out(k, [left, right])` with the
+    /// pickups' velocities (m/s). Audio thread: no allocation, `O(N_e)` per step.
+    pub fn run(
+        &mut self,
+        energy: f64,
+        struck: f64,
+        frames: usize,
+        mut out: impl FnMut(usize, [f64; 2]),
+    ) {
         if energy > 0.0 && energy.is_finite() {
             self.energy.received += energy;
             self.energy.pending += energy;
         }
+        if struck > 0.0 && struck.is_finite() {
+            self.energy.struck += struck;
+            self.energy.pending += struck;
+            self.strike_pending += struck;
+        }
         for k in 0..frames {
-            let budget = self.energy.pending / (frames - k) as f64;
-            self.step(budget);
+            let left = (frames - k) as f64;
+            let closure = (self.energy.pending - self.strike_pending).max(0.0);
+            self.step(closure / left, self.strike_pending / left);
             out(k, self.outputs);
         }
     }
 
-    /// One step, giving `budget` (J) to the modes of this step's turn.
+    /// One step, giving `budget` (J) of the closure's and `strike` (J) of the strike's
+    /// energy to the modes of this step's turn.
     #[inline]
-    fn step(&mut self, budget: f64) {
+    fn step(&mut self, budget: f64, strike: f64) {
         let n = self.n;
         let (h, rho_h) = (self.h, self.rho_h);
         let turn = self.turn;
         self.turn = (turn + 1) % STRIDE;
         let (lo, hi) = turn_range(turn, n);
-        if budget > 0.0 && lo < hi {
-            // The turn's demand, scaled down if the pending energy cannot cover it.
+        let fed = (budget > 0.0 || strike > 0.0) && lo < hi;
+        if fed {
+            // Each turn's demand, scaled down if the pending energy cannot cover it.
+            let closure_pending = (self.energy.pending - self.strike_pending).max(0.0);
             let demand = self.demand[turn];
-            let per_share = budget.min(self.energy.pending / demand.max(f64::MIN_POSITIVE));
+            let per_share = budget.min(closure_pending / demand.max(f64::MIN_POSITIVE));
+            let strike_demand = self.strike_demand[turn];
+            let per_strike = strike.min(self.strike_pending / strike_demand.max(f64::MIN_POSITIVE));
             let (gain, half) = (h * h, 0.5 * rho_h);
             let rows = self.q[lo..hi]
                 .iter()
                 .zip(&self.q_prev[lo..hi])
                 .zip(self.b[lo..hi].iter().zip(&self.d[lo..hi]))
                 .zip(self.inv_a[lo..hi].iter().zip(&self.share[lo..hi]))
-                .zip(self.kick[lo..hi].iter_mut().enumerate());
-            for ((((&x, &xp), (&b, &d)), (&inv_a, &share)), (k, kick)) in rows {
-                let w = per_share * share;
+                .zip(
+                    self.kick[lo..hi]
+                        .iter_mut()
+                        .zip(&self.strike_share[lo..hi])
+                        .enumerate(),
+                );
+            for ((((&x, &xp), (&b, &d)), (&inv_a, &share)), (k, (kick, &struck))) in rows {
+                let w = per_share * share + per_strike * struck;
                 let free = (b * x - d * xp) * inv_a;
                 let alpha = half * gain * inv_a;
                 let beta = half * (free - xp);
@@ -295,15 +380,17 @@ impl BandExtension {
                 let p = 2.0 * w / (beta + sign * root);
                 *kick = if p.is_finite() { gain * p * inv_a } else { 0.0 };
             }
-            let given = per_share * demand;
+            let given_strike = per_strike * strike_demand;
+            let given = per_share * demand + given_strike;
             self.energy.pending = (self.energy.pending - given).max(0.0);
+            self.strike_pending = (self.strike_pending - given_strike).max(0.0);
         }
         let inv_h = 1.0 / h;
         let arch = self.arch;
         let (o0, o1, lost) = arch.dispatch(self.sweep_args(n));
         self.outputs = [o0 * inv_h, o1 * inv_h];
         let lost = 0.25 * inv_h * inv_h * lost;
-        if budget > 0.0 && lo < hi {
+        if fed {
             self.kick[lo..hi].fill(0.0);
         }
         self.energy.dissipated += h * rho_h * lost;
@@ -435,68 +522,5 @@ impl pulp::WithSimd for Sweep<'_> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn bank(n: usize, fs: f64, c: f64) -> BandExtension {
-        let mut x = BandExtension::new(n);
-        let omega: Vec<f64> = (0..n)
-            .map(|e| std::f64::consts::TAU * (7000.0 + 40.0 * e as f64))
-            .collect();
-        x.retune(&omega, &vec![c; n], 6.88, 1.0 / fs);
-        for (e, w) in x.pickup_weights_mut(0).iter_mut().enumerate() {
-            *w = if e % 3 == 0 { 2.0 } else { -1.3 };
-        }
-        x
-    }
-
-    /// Every joule received is stored, pending or dissipated, to round-off, through feeding
-    /// and free decay, with and without damping.
-    #[test]
-    fn the_energy_received_is_accounted_to_round_off() {
-        for c in [0.0, 40.0] {
-            let mut x = bank(300, 48_000.0, c);
-            for chunk in 0..400 {
-                let e = if chunk < 200 {
-                    1e-3 * (chunk % 7) as f64
-                } else {
-                    0.0
-                };
-                x.run(e, 64, |_, _| {});
-                let en = x.energy();
-                assert!(
-                    en.balance().abs() <= 1e-12 * en.received,
-                    "chunk {chunk}, c = {c}: balance {:e} of {:e} received",
-                    en.balance(),
-                    en.received
-                );
-            }
-            let en = x.energy();
-            assert!(en.pending < 1e-15 * en.received, "{en:?}");
-            if c == 0.0 {
-                assert!((en.stored / en.received - 1.0).abs() < 1e-12, "{en:?}");
-            } else {
-                assert!(en.dissipated > 0.5 * en.received, "{en:?}");
-            }
-        }
-    }
-
-    /// The shares follow `(ω/ω_0)^{-α}`: after feeding a lossless bank, the energy of each
-    /// turn's modes is in that ratio.
-    #[test]
-    fn the_energy_is_shared_by_the_spectral_slope() {
-        let mut x = bank(64, 48_000.0, 0.0);
-        x.run(1.0, 64 * STRIDE, |_, _| {});
-        let h = x.h;
-        let energy = |e: usize| {
-            let v = (x.q[e] - x.q_prev[e]) / h;
-            0.5 * x.rho_h * (v * v + x.omega_sq[e] * x.q[e] * x.q_prev[e])
-        };
-        let w = |e: usize| 7000.0 + 40.0 * e as f64;
-        for e in [9, 17, 40, 63] {
-            let want = (w(e) / w(1)).powf(-SPECTRAL_SLOPE);
-            let got = energy(e) / energy(1);
-            assert!((got / want - 1.0).abs() < 0.02, "mode {e}: {got} vs {want}");
-        }
-    }
-}
+#[path = "extension_tests.rs"]
+mod tests;

@@ -97,6 +97,7 @@
 pub mod basis;
 pub mod blueprint;
 pub mod closure;
+pub mod contact_residual;
 pub mod coupling;
 pub mod energy;
 pub mod excitation;

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use super::closure::{
     TruncationClosure, DEFAULT_LAYER, DEFAULT_STRENGTH, DEFAULT_TIME_CONSTANT, MAX_STRENGTH,
 };
+use super::contact_residual::ContactResidual;
 use super::coupling::ModalCoupling;
 use super::energy::PlateEnergy;
 use super::excitation::{PickupKind, PickupWeights};
@@ -113,6 +114,9 @@ pub struct PlateModel<C: ModalCoupling + ?Sized = dyn ModalCoupling> {
     sav: Option<SavStep>,
     /// The player's hand (a point damper, [`super::hand_damper`]); `c = 0` without one.
     hand: Hand,
+    /// The modes above the truncation at the mallet's contact ([`super::contact_residual`];
+    /// off unless [`Self::set_contact_residual`] set it).
+    residual: ContactResidual,
     /// The static rest shape (flat unless [`Self::set_rest_shape`] set one).
     rest: RestShape,
     /// The damping of the top modes that takes a loud strike's pile-up ([`super::closure`];
@@ -229,6 +233,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 sav
             }),
             hand: Hand::new(nf),
+            residual: ContactResidual::default(),
             rest: RestShape::flat(nf, np),
             closure: TruncationClosure::new(nf),
             absorbed: 0.0,
@@ -252,6 +257,7 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
         }
         self.outputs.fill(0.0);
         self.hand.force = 0.0;
+        self.residual.reset();
         self.closure.reset();
         self.write_closure_coefficients();
         self.absorbed = 0.0;
@@ -504,7 +510,16 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
 
     /// Discrete energy terms and balance accumulators at the current step.
     pub fn energy(&self) -> PlateEnergy {
-        self.energy
+        let mut e = self.energy;
+        if self.residual.is_on() {
+            // The contact residual's spring with the linear potential, its dashpot with the
+            // losses, and the mallet's work on it with the work (`contact_residual.rs`).
+            let (stored, dissipated, work) = self.residual.energy();
+            e.linear += stored;
+            e.dissipated += dissipated;
+            e.work += work;
+        }
+        e
     }
 
     /// Modal displacements `q(n)` at the current step.

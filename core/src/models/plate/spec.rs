@@ -348,6 +348,12 @@ pub struct PlateSpec {
     /// of the dissipation moved to the band's own losses).
     #[serde(default)]
     pub band_above: bool,
+    /// With `band_above` and a `kind = "mallet"` excitation: the mallet's contact feels the
+    /// modes above the basis (their point resistance and static compliance, a spring and a
+    /// dashpot in series with the plate), and the energy it gives them sounds in the band
+    /// above (`plate.strike_above`; [`super::contact_residual`]). Default `false`.
+    #[serde(default)]
+    pub strike_above: bool,
     /// Storage of the coupling tensor's values: `"double"` (default, `f64`) or `"single"`
     /// (every value rounded to `f32` once; faster kernels, the energy still conserved to
     /// round-off; see [`crate::modal::TensorStorage`]).

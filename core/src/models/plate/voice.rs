@@ -9,12 +9,13 @@
 
 use super::basis::ModalCache;
 use super::blueprint::PlateBlueprint;
+use super::contact_residual::ContactResidual;
 use super::excitation::{damping_law, PickupKind, PickupWeights, RaisedCosine};
 use super::extension::{ceiling_hz, BandExtension};
 use super::spec::{Damping, Excitation, PlateSpec, Position, Quantity};
 use super::{LinearSolve, Mallet, PlateModel, PlateParams};
 use crate::error::ParamError;
-use crate::modal::scaling::in_plane_divisor;
+use crate::modal::scaling::{flexural_rigidity, in_plane_divisor};
 use crate::modal::CouplingTensor;
 use crate::models::sav_relaxation::SavRelaxation;
 use crate::models::source::{EnergyTerms, ModelDetails, PlateDetails, RenderSource};
@@ -214,6 +215,25 @@ impl PlateVoice {
                     *w = list.phi_at(omega.len() + e, &at) / a;
                 }
             }
+            // Where the strike reaches them (`extension.rs`, "The strike"), and the mallet's
+            // contact feels them (`contact_residual.rs`).
+            let struck_at = blueprint.in_frame(&at);
+            let phi: Vec<f64> = (0..omega_above.len())
+                .map(|e| list.phi_at(omega.len() + e, &struck_at))
+                .collect();
+            x.set_strike(&phi);
+            if let (true, ForceSignal::Mallet(_), Some(&top)) =
+                (scene.strike_above, &force, omega.last())
+            {
+                let d = flexural_rigidity(
+                    scene.material.youngs_modulus,
+                    scene.thickness,
+                    scene.material.poisson,
+                );
+                let (k, r) =
+                    ContactResidual::for_plate(d, scene.surface_density(), top).map_err(scoped)?;
+                model.set_contact_residual(k, r).map_err(scoped)?;
+            }
             Some(x)
         } else {
             None
@@ -306,7 +326,8 @@ impl RenderSource for PlateVoice {
                 c[i] = y;
             }
             if let Some(x) = &mut self.above {
-                x.run(self.model.take_absorbed(), 1, |_, y| {
+                let struck = self.model.take_struck();
+                x.run(self.model.take_absorbed(), struck, 1, |_, y| {
                     for (c, y) in out.iter_mut().zip(y) {
                         c[i] += y;
                     }

@@ -1,14 +1,17 @@
 //! The band above a plate voice's simulation, per note: the plate's linear modes from the top
 //! of the note's tier up to [`ceiling_hz`] of the rate they run at (data in
 //! [`crate::engine::voice::above`]), run at the bank's above rate (the host rate up to 48 kHz,
-//! [`crate::engine::above_mix`]) and fed with exactly the energy the tier's truncation closure absorbs
-//! ([`crate::models::plate::extension`]). Their frequencies, damping law and pickups are the
-//! note's own, continued past the tier; the pickups sit at the bank's radii (a note's own
-//! pickup radius moves only the simulated band).
+//! [`crate::engine::above_mix`]), fed with exactly the energy the tier's truncation closure absorbs
+//! and the energy the mallet's contact gives the modes above (the contact residual's,
+//! [`crate::models::plate::contact_residual`]; [`crate::models::plate::extension`]). Their frequencies, damping law and pickups are the
+//! note's own, continued past the tier; the pickups and the strike sit at the bank's radii (a
+//! note's own pickup or strike radius moves only the simulated band).
 //!
 //! Threads: the audio thread or the voice's job, without allocation.
 
 use super::{Frame, PlateVoice, VOICE_CEILING};
+use crate::modal::scaling::flexural_rigidity;
+use crate::models::plate::contact_residual::ContactResidual;
 use crate::models::plate::extension::ceiling_hz;
 use crate::models::source::EnergyTerms;
 use std::f64::consts::TAU;
@@ -48,6 +51,9 @@ impl PlateVoice {
             .bank
             .retune(&above.omega[..k], &above.damping[..k], rho_h, h);
         let inv_a = 1.0 / a;
+        // The strike sits at angle 0 of a mirror frame (and at the bank's point of a fixed
+        // one): no rotation, and the shares ignore the common `1/a`.
+        above.bank.set_strike(&modes.strike[from..from + k]);
         for c in 0..2 {
             let phi = &modes.pickups[c][from..from + k];
             let w = above.bank.pickup_weights_mut(c);
@@ -66,6 +72,23 @@ impl PlateVoice {
                 }
             }
         }
+    }
+
+    /// The residual of the modes above the note's band at the mallet's contact
+    /// ([`crate::models::plate::contact_residual`]), for a plate of Young's modulus `e` (Pa),
+    /// thickness `h` (m) and surface density `rho_h` (kg/m²) on the tier's first `n` modes:
+    /// on with the band above and the `strike_above` parameter (the modes the band continues
+    /// are the ones the contact feels), off otherwise. Audio thread, O(n).
+    pub(super) fn set_residual(&mut self, e: f64, h: f64, rho_h: f64, n: usize) {
+        let kept = self.kept_modes(n);
+        let d = flexural_rigidity(e, h, self.data.poisson);
+        let (k, r) = if self.above.on && self.above.contact && kept > 0 {
+            ContactResidual::for_plate(d, rho_h, self.omega[kept - 1]).unwrap_or((0.0, 0.0))
+        } else {
+            (0.0, 0.0)
+        };
+        // Non-negative and finite by construction, so this cannot fail.
+        let _ = self.models[self.tier].set_contact_residual(k, r);
     }
 
     /// Modes of the note's band above (0 while the `band_above` parameter is off).
@@ -98,18 +121,20 @@ impl PlateVoice {
     }
 
     /// Runs the band above for `left.len()` samples at its rate with the energy the closure
-    /// absorbed since the last call, adding `gain ·` its pickups; `false` past
-    /// [`VOICE_CEILING`]. Skipped (O(1)) while nothing was ever received or the band is off.
-    /// Audio thread or the voice's job; no allocation, O(N_e) per sample when it runs.
+    /// absorbed and the contact residual took from the strike since the last call, adding
+    /// `gain ·` its pickups; `false` past [`VOICE_CEILING`]. Skipped (O(1)) while nothing was
+    /// ever received or struck, or the band is off. Audio thread or the voice's job; no
+    /// allocation, O(N_e) per sample when it runs.
     pub fn run_above(&mut self, left: &mut [f32], right: &mut [f32], gain: f64) -> bool {
-        let absorbed = self.models[self.tier].take_absorbed();
+        let model = &mut self.models[self.tier];
+        let (absorbed, struck) = (model.take_absorbed(), model.take_struck());
         let above = &mut self.above;
-        if !above.on || above.bank.is_empty() || (above.idle && absorbed <= 0.0) {
+        if !above.on || above.bank.is_empty() || (above.idle && absorbed <= 0.0 && struck <= 0.0) {
             return true;
         }
         above.idle = false;
         let mut ok = true;
-        above.bank.run(absorbed, left.len(), |k, o| {
+        above.bank.run(absorbed, struck, left.len(), |k, o| {
             let (a, b) = (gain * o[0], gain * o[1]);
             ok &= a.abs() <= VOICE_CEILING && b.abs() <= VOICE_CEILING;
             left[k] += a as f32;

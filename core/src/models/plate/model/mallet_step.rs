@@ -22,9 +22,26 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
                 format!("the plate's time step h = {}", self.h),
             ));
         }
-        let w = dot(&self.force_weights, &self.q);
-        let w_prev = dot(&self.force_weights, &self.q_prev);
+        // The contact point moves with the residual of the modes above (if on).
+        let w = dot(&self.force_weights, &self.q) + self.residual.u();
+        let w_prev = dot(&self.force_weights, &self.q_prev) + self.residual.u_prev();
         mallet.launch(speed, w, w_prev)
+    }
+
+    /// Sets the residual of the modes above the truncation at the mallet's contact: a spring
+    /// `k` (N/m) and a dashpot `r` (N·s/m) in parallel, in series with the plate
+    /// ([`crate::models::plate::contact_residual`]; `ContactResidual::for_plate` gives them
+    /// for a plate); `(0, 0)` turns it off (the default). Errors name the field. No
+    /// allocation; the thread that owns the plate.
+    pub fn set_contact_residual(&mut self, k: f64, r: f64) -> Result<(), ParamError> {
+        self.residual.set(k, r)
+    }
+
+    /// The energy the contact residual's dashpot took since the last call (J, ≥ 0; 0 while
+    /// it is off): what the band above the simulation receives from the strike
+    /// ([`crate::models::plate::extension`]). No allocation.
+    pub fn take_struck(&mut self) -> f64 {
+        self.residual.take_dissipated()
     }
 
     /// Advances one step `n → n + 1` with the force `F(n)` of `mallet`'s felt on the plate at
@@ -51,10 +68,13 @@ impl<C: ModalCoupling + ?Sized> PlateModel<C> {
             (fh0, hand_k) = (f0, k);
             sav_gz += kgz;
         }
-        let w_star = dot(&self.force_weights, &self.q_next);
-        let compliance = dot(&self.force_weights, &self.f);
-        let w_prev = dot(&self.force_weights, &self.q_prev);
+        // The residual of the modes above (if on) in series: more compliance at the contact.
+        let (u_star, c_u) = self.residual.predict(self.h);
+        let w_star = dot(&self.force_weights, &self.q_next) + u_star;
+        let compliance = dot(&self.force_weights, &self.f) + c_u;
+        let w_prev = dot(&self.force_weights, &self.q_prev) + self.residual.u_prev();
         let force = mallet.contact_step(w_star, compliance, w_prev);
+        self.residual.advance(self.h, force);
         if force != 0.0 {
             for (q, &z) in self.q_next.iter_mut().zip(&self.f) {
                 *q += force * z;
