@@ -21,7 +21,7 @@
 //! ```
 
 use noether::engine::ParamId;
-use noether_testkit::performance::{engine, relative_band_levels, strike};
+use noether_testkit::performance::{engine, relative_band_levels, resolved_reference, strike};
 use noether_testkit::presets::preset_params;
 
 const HOST_RATE: f64 = 48_000.0;
@@ -53,15 +53,8 @@ fn main() {
         .map(|s| (ParamId::Closure, s.parse().expect("CLOSURE, 0 to 4")))
         .into_iter()
         .collect();
-    let mut resolved = vec![
-        (ParamId::Closure, 0.0),
-        // The plain resolved truncation: no band above (nor its contact residual).
-        (ParamId::BandAbove, 0.0),
-        (ParamId::BandLimit, band),
-        (ParamId::Modes, 1400.0),
-        (ParamId::Scheme, 1.0), // conservative-exact
-        (ParamId::SimRate, rate),
-    ];
+    // The plain resolved truncation: no closure, no band above (nor its contact residual).
+    let mut resolved = resolved_reference(band, rate).to_vec();
     let mut preset_sets = preset_sets;
     let mut plain_sets = vec![(ParamId::Closure, 0.0)];
     let with_floor = args.iter().skip(4).any(|a| a == "floor");

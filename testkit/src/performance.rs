@@ -15,7 +15,7 @@
 //! builds the banks). Allocates freely outside `Engine::process_events`.
 
 use crate::soak::{Draw, Storm};
-use noether_core::engine::{Engine, Event, EventKind, NoteExpression, SharedParams};
+use noether_core::engine::{Engine, Event, EventKind, NoteExpression, ParamId, SharedParams};
 use oorandom::Rand64;
 use rustfft::{num_complex::Complex, FftPlanner};
 use std::sync::Arc;
@@ -367,6 +367,30 @@ pub fn relative_band_levels(x: &[f32], rate: f64, (from, to): (f64, f64)) -> Vec
             .sum::<f64>()
             .log10();
     bands.into_iter().map(|(hz, l)| (hz, l - total)).collect()
+}
+
+/// The level (dB) of the band of `bands` (centre Hz, level) centred nearest `hz`; NaN for no
+/// band.
+pub fn level_at(bands: &[(f64, f64)], hz: f64) -> f64 {
+    bands
+        .iter()
+        .min_by(|a, b| (a.0 / hz).ln().abs().total_cmp(&(b.0 / hz).ln().abs()))
+        .map_or(f64::NAN, |b| b.1)
+}
+
+/// The parameter changes that make a plate preset its resolved reference: the band raised to
+/// `band_hz` with up to 1400 modes, the conservative-exact scheme at `rate_hz`, no closure and
+/// no band above (docs/ACCURACY.md; `examples/closure_bands`, the engine's closure and strike
+/// tests).
+pub fn resolved_reference(band_hz: f32, rate_hz: f32) -> [(ParamId, f32); 6] {
+    [
+        (ParamId::Closure, 0.0),
+        (ParamId::BandAbove, 0.0),
+        (ParamId::BandLimit, band_hz),
+        (ParamId::Modes, 1400.0),
+        (ParamId::Scheme, 1.0), // conservative-exact
+        (ParamId::SimRate, rate_hz),
+    ]
 }
 
 /// A strike after a performance against the same strike on a new engine.

@@ -5,7 +5,9 @@
 //! nonlinear in-plane energy, is untouched whatever its spectrum (the closure's gate).
 
 use noether::engine::ParamId;
-use noether_testkit::performance::{band_levels, engine, relative_band_levels, strike};
+use noether_testkit::performance::{
+    band_levels, engine, level_at, relative_band_levels, resolved_reference, strike,
+};
 use noether_testkit::presets::preset_params;
 
 const RATE: f64 = 48_000.0;
@@ -41,15 +43,6 @@ fn largest_change(plain: &[(f64, f64)], closed: &[(f64, f64)]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// The level (dB) of the band centred nearest `hz`.
-fn level_at(bands: &[(f64, f64)], hz: f64) -> f64 {
-    bands
-        .iter()
-        .min_by(|a, b| (a.0 / hz).ln().abs().total_cmp(&(b.0 / hz).ln().abs()))
-        .map(|b| b.1)
-        .unwrap()
-}
-
 /// The crash's root key at full velocity, one voice, 1.5 s (left output), with `sets` changed
 /// from the preset and the stick's contact on the simulated modes only (`strike_above` off:
 /// the pile-up the closure takes is then the whole top's, `tests/engine/strike_above.rs`).
@@ -78,14 +71,7 @@ fn crash_strike(sets: &[(ParamId, f32)]) -> Vec<f32> {
 ///   1.5 s, docs/ACCURACY.md). `cargo run --release --example closure_bands` prints every band.
 #[test]
 fn the_closure_brings_the_crash_to_its_resolved_reference() {
-    let reference = [
-        (ParamId::Closure, 0.0),
-        (ParamId::BandAbove, 0.0),
-        (ParamId::BandLimit, 14_000.0),
-        (ParamId::Modes, 1400.0),
-        (ParamId::Scheme, 1.0), // conservative-exact
-        (ParamId::SimRate, 62_400.0),
-    ];
+    let reference = resolved_reference(14_000.0, 62_400.0);
     let renders = [
         crash_strike(&[]),
         crash_strike(&[(ParamId::Closure, 0.0)]),

@@ -9,7 +9,9 @@
 //! every band).
 
 use noether::engine::ParamId;
-use noether_testkit::performance::{engine, relative_band_levels, strike};
+use noether_testkit::performance::{
+    engine, level_at, relative_band_levels, resolved_reference, strike,
+};
 use noether_testkit::presets::preset_params;
 use noether_testkit::take;
 
@@ -21,15 +23,6 @@ fn ride_strike(sets: &[(ParamId, f32)]) -> Vec<f32> {
     all.extend_from_slice(sets);
     let mut e = engine(preset_params("ride", &all));
     strike(&mut e, 72, 64.0 / 127.0, 1.5, 1.5)
-}
-
-/// The level (dB) of the band centred nearest `hz`.
-fn level_at(bands: &[(f64, f64)], hz: f64) -> f64 {
-    bands
-        .iter()
-        .min_by(|a, b| (a.0 / hz).ln().abs().total_cmp(&(b.0 / hz).ln().abs()))
-        .map(|b| b.1)
-        .unwrap()
 }
 
 /// Velocity 64, levels relative to each window's total over 0-0.3 s and 0.3-1.5 s, against
@@ -45,14 +38,7 @@ fn level_at(bands: &[(f64, f64)], hz: f64) -> f64 {
 ///   its compliance fails the first check.
 #[test]
 fn the_ride_rings_above_its_band_when_struck() {
-    let reference = [
-        (ParamId::Closure, 0.0),
-        (ParamId::BandAbove, 0.0),
-        (ParamId::BandLimit, 14_000.0),
-        (ParamId::Modes, 1400.0),
-        (ParamId::Scheme, 1.0), // conservative-exact
-        (ParamId::SimRate, 62_400.0),
-    ];
+    let reference = resolved_reference(14_000.0, 62_400.0);
     let renders = [
         ride_strike(&[]),
         ride_strike(&[(ParamId::StrikeAbove, 0.0)]),

@@ -228,16 +228,7 @@ impl BandExtension {
             self.share[e] = (omega[e] / lowest).powf(-SPECTRAL_SLOPE);
             total += self.share[e];
         }
-        let scale = if total > 0.0 {
-            STRIDE as f64 / total
-        } else {
-            0.0
-        };
-        self.demand = [0.0; STRIDE];
-        for (e, s) in self.share[..n].iter_mut().enumerate() {
-            *s *= scale;
-            self.demand[turn_of(e, n)] += *s;
-        }
+        normalise(&mut self.share[..n], total, &mut self.demand);
         // Until `set_strike` says where the strike is, it shares as the closure does.
         self.strike_share[..n].copy_from_slice(&self.share[..n]);
         self.strike_demand = self.demand;
@@ -286,12 +277,7 @@ impl BandExtension {
             self.strike_demand = self.demand;
             return;
         }
-        let scale = STRIDE as f64 / total;
-        self.strike_demand = [0.0; STRIDE];
-        for (e, s) in self.strike_share[..n].iter_mut().enumerate() {
-            *s *= scale;
-            self.strike_demand[turn_of(e, n)] += *s;
-        }
+        normalise(&mut self.strike_share[..n], total, &mut self.strike_demand);
     }
 
     /// Puts the modes at rest and clears the energy terms. No allocation.
@@ -437,6 +423,22 @@ impl BandExtension {
 /// blocks (so the feed runs over contiguous memory).
 fn turn_range(k: usize, n: usize) -> (usize, usize) {
     (k * n / STRIDE, (k + 1) * n / STRIDE)
+}
+
+/// Scales raw `shares` (summing to `total`) to `STRIDE s_e / Σ s` (all zero unless `total`
+/// is positive) and writes each turn's sum into `demand`.
+fn normalise(shares: &mut [f64], total: f64, demand: &mut [f64; STRIDE]) {
+    let n = shares.len();
+    let scale = if total > 0.0 {
+        STRIDE as f64 / total
+    } else {
+        0.0
+    };
+    *demand = [0.0; STRIDE];
+    for (e, s) in shares.iter_mut().enumerate() {
+        *s *= scale;
+        demand[turn_of(e, n)] += *s;
+    }
 }
 
 /// The turn whose block holds mode `e` of `n` (the inverse of [`turn_range`]).
